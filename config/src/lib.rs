@@ -1,0 +1,65 @@
+//! hopnav's configuration: TOML defaults embedded in the binary, overridden key by key by a
+//! user file, deserialized with the path of any bad key, and validated against ranges.
+//!
+//! ```
+//! let config = hopnav_config::load(Some("[run]\nframes = 12\n")).expect("valid");
+//! assert_eq!(config.run.frames, 12);
+//! assert_eq!(config.run.frame_rate_hz, 10.0); // from the embedded defaults
+//!
+//! let error = hopnav_config::load(Some("[run]\nframe_rate_hz = -1.0\n")).unwrap_err();
+//! assert!(error.to_string().contains("run.frame_rate_hz"));
+//! ```
+#![warn(missing_docs)]
+
+mod error;
+mod merge;
+mod schema;
+mod validate;
+
+use std::path::Path;
+
+pub use error::ConfigError;
+pub use schema::{
+    HopnavConfig, ProbeConfig, ProcessConfig, RestartConfig, RestartPolicy, RunConfig,
+    WatchdogConfig,
+};
+
+/// The embedded default configuration.
+pub const DEFAULT_TOML: &str = include_str!("../default.toml");
+
+/// Loads the defaults overridden by `override_toml` (if any) and validates the result.
+pub fn load(override_toml: Option<&str>) -> Result<HopnavConfig, ConfigError> {
+    let mut table = parse_table(DEFAULT_TOML, "embedded defaults")?;
+    if let Some(text) = override_toml {
+        merge::deep_merge(&mut table, parse_table(text, "config file")?);
+    }
+    let config: HopnavConfig = serde_path_to_error::deserialize(toml::Value::Table(table))
+        .map_err(|error| ConfigError::Schema {
+            key: error.path().to_string(),
+            message: error.inner().to_string(),
+        })?;
+    validate::validate(&config)?;
+    Ok(config)
+}
+
+/// Loads the defaults overridden by the TOML file at `path`.
+pub fn load_file(path: &Path) -> Result<HopnavConfig, ConfigError> {
+    let text = std::fs::read_to_string(path).map_err(|error| ConfigError::Io {
+        path: path.display().to_string(),
+        message: error.to_string(),
+    })?;
+    load(Some(&text))
+}
+
+/// The configuration as TOML (written next to each run's report and read by the children).
+pub fn to_toml(config: &HopnavConfig) -> Result<String, ConfigError> {
+    toml::to_string_pretty(config).map_err(|error| ConfigError::Serialize(error.to_string()))
+}
+
+fn parse_table(text: &str, origin: &'static str) -> Result<toml::Table, ConfigError> {
+    text.parse::<toml::Table>()
+        .map_err(|error| ConfigError::Syntax {
+            origin,
+            message: error.to_string(),
+        })
+}

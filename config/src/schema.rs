@@ -1,0 +1,109 @@
+//! The shape of the configuration. Unknown keys are errors, so a typo never goes unnoticed.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+/// The whole configuration of a launch.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HopnavConfig {
+    /// Frame clock and launch length.
+    pub run: RunConfig,
+    /// Hang detection.
+    pub watchdog: WatchdogConfig,
+    /// Restart intensity and backoff.
+    pub restart: RestartConfig,
+    /// The process graph: name → settings.
+    pub processes: BTreeMap<String, ProcessConfig>,
+    /// The latency probe graph.
+    pub probe: ProbeConfig,
+}
+
+/// Frame clock and launch length.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunConfig {
+    /// Frames per second of the real-time core.
+    pub frame_rate_hz: f64,
+    /// Frames per launch.
+    pub frames: u64,
+    /// Lockstep instead of wall-clock pacing.
+    pub lockstep: bool,
+    /// Time allowed for every process to report ready.
+    pub startup_timeout_s: f64,
+    /// Grace period for processes to exit after shutdown.
+    pub shutdown_timeout_s: f64,
+    /// Where run folders are created.
+    pub out_dir: String,
+}
+
+impl RunConfig {
+    /// The frame period in seconds.
+    pub fn frame_period_s(&self) -> f64 {
+        1.0 / self.frame_rate_hz
+    }
+}
+
+/// Hang detection.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WatchdogConfig {
+    /// Frame periods without a heartbeat before a process counts as hung.
+    pub heartbeat_timeout_frames: u32,
+}
+
+/// Restart intensity and backoff, per process.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RestartConfig {
+    /// Restarts allowed within `window_s`; one more stops the launch.
+    pub max_restarts: u32,
+    /// Sliding window for counting restarts.
+    pub window_s: f64,
+    /// First backoff delay.
+    pub backoff_initial_ms: u64,
+    /// Largest backoff delay.
+    pub backoff_max_ms: u64,
+}
+
+/// When a process that exited is started again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RestartPolicy {
+    /// Never restart; the launch continues without it (real time) or stops (lockstep).
+    Never,
+    /// Restart after a crash, a non-zero exit or a hang.
+    OnFailure,
+    /// Restart whenever it exits before shutdown, even cleanly.
+    Always,
+}
+
+/// One process of the graph.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProcessConfig {
+    /// Launch it.
+    #[serde(default = "enabled_by_default")]
+    pub enabled: bool,
+    /// Position in the frame pipeline (0 runs first).
+    pub stage: u32,
+    /// Time one frame may take in this process.
+    pub budget_ms: f64,
+    /// Restart policy.
+    pub restart: RestartPolicy,
+}
+
+fn enabled_by_default() -> bool {
+    true
+}
+
+/// The latency probe graph.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeConfig {
+    /// Width of the probe image, pixels.
+    pub width_px: u32,
+    /// Height of the probe image, pixels.
+    pub height_px: u32,
+}

@@ -1,0 +1,64 @@
+//! planner → physics: drive and jump commands; supervisor → all: control.
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use super::{SampleStamp, Vec3, coded_enum};
+
+/// Drive the rover toward a waypoint.
+#[repr(C)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("hopnav::DriveCommand")]
+pub struct DriveCommand {
+    /// Frame identity and timing.
+    pub stamp: SampleStamp,
+    /// Target waypoint x in the world frame, metres.
+    pub waypoint_x_m: f64,
+    /// Target waypoint y in the world frame, metres.
+    pub waypoint_y_m: f64,
+    /// Commanded ground speed, m/s (0 = stop).
+    pub speed_mps: f64,
+    /// 1 when the goal is reached and the rover must hold still.
+    pub hold: u32,
+    /// Reserved, zero.
+    pub reserved: u32,
+}
+
+/// Ask the jumper to hop toward a region of interest.
+#[repr(C)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("hopnav::JumpRequest")]
+pub struct JumpRequest {
+    /// Frame identity and timing.
+    pub stamp: SampleStamp,
+    /// Where the jumper should land, world frame, metres.
+    pub target_m: Vec3,
+    /// Request counter of the planner.
+    pub request_id: u64,
+}
+
+coded_enum! {
+    /// Launch-wide control requests.
+    ControlKind {
+        /// Stop the mission and exit cleanly.
+        Shutdown = 1,
+        /// The goal was reached.
+        GoalReached = 2,
+    }
+}
+
+/// A launch-wide control message.
+#[repr(C)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("hopnav::Control")]
+pub struct Control {
+    /// Frame identity and timing.
+    pub stamp: SampleStamp,
+    /// A [`ControlKind`] code.
+    pub kind: u32,
+    /// Slot of the sender in the process table.
+    pub sender_slot: u32,
+}
+
+const _: () = assert!(size_of::<DriveCommand>() == 64);
+const _: () = assert!(size_of::<JumpRequest>() == 64);
+const _: () = assert!(size_of::<Control>() == 40);

@@ -1,0 +1,123 @@
+//! Every topic name and its quality of service, in one place.
+//!
+//! A topic is an iceoryx2 publish-subscribe service plus an event service of the same name:
+//! publishers notify after sending, so subscribers wait on events and never poll. Every side
+//! opens a topic with the same [`TopicSpec`], so whoever comes first creates it right.
+
+use std::borrow::Cow;
+
+/// Name and quality of service of one topic.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TopicSpec {
+    /// iceoryx2 service name (unique within a launch's namespace).
+    pub name: Cow<'static, str>,
+    /// Samples a late subscriber receives on connect (restarted processes recover from it).
+    pub history_size: usize,
+    /// Samples buffered per subscriber; the oldest is overwritten when full.
+    pub subscriber_buffer: usize,
+    /// Publishers at once, counting a restarted process's new port before the dead one is
+    /// cleaned.
+    pub max_publishers: usize,
+    /// Subscribers at once.
+    pub max_subscribers: usize,
+}
+
+impl TopicSpec {
+    const fn fixed(name: &'static str, history_size: usize, subscriber_buffer: usize) -> Self {
+        Self {
+            name: Cow::Borrowed(name),
+            history_size,
+            subscriber_buffer,
+            max_publishers: 4,
+            max_subscribers: 8,
+        }
+    }
+
+    /// Nodes that may hold a port of this topic at once.
+    pub fn max_nodes(&self) -> usize {
+        (self.max_publishers + self.max_subscribers) * 2
+    }
+}
+
+/// Process → supervisor heartbeats; every process publishes here.
+pub const HEARTBEAT: TopicSpec = TopicSpec {
+    name: Cow::Borrowed("hopnav/heartbeat"),
+    history_size: 0,
+    subscriber_buffer: 256,
+    max_publishers: 40,
+    max_subscribers: 4,
+};
+
+/// Supervisor → one process: that process's frame releases and shutdown.
+pub fn step(process_name: &str) -> TopicSpec {
+    TopicSpec {
+        name: Cow::Owned(format!("hopnav/step/{process_name}")),
+        history_size: 1,
+        subscriber_buffer: 4,
+        max_publishers: 2,
+        max_subscribers: 2,
+    }
+}
+
+/// Latency probe: one image-sized sample per frame.
+pub const PROBE_IMAGE: TopicSpec = TopicSpec::fixed("hopnav/probe/image", 1, 2);
+/// physics: ground-truth body states (evaluation and rendering only).
+pub const BODY_STATES: TopicSpec = TopicSpec::fixed("hopnav/physics/body_states", 1, 4);
+/// physics: the jumper's altimeter.
+pub const ALTIMETER: TopicSpec = TopicSpec::fixed("hopnav/physics/altimeter", 1, 8);
+/// physics: the rover's IMU.
+pub const IMU: TopicSpec = TopicSpec::fixed("hopnav/physics/imu", 1, 8);
+/// camera: the jumper's rear-facing mono image.
+pub const JUMPER_IMAGE: TopicSpec = TopicSpec::fixed("hopnav/camera/jumper", 1, 2);
+/// camera: the rover's stereo pair.
+pub const ROVER_STEREO: TopicSpec = TopicSpec::fixed("hopnav/camera/rover_stereo", 1, 2);
+/// jumper_vo: estimated jumper pose, every frame.
+pub const JUMPER_POSE: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/pose", 1, 8);
+/// rover_vo: estimated rover pose, every frame.
+pub const ROVER_POSE: TopicSpec = TopicSpec::fixed("hopnav/rover_vo/pose", 1, 8);
+/// jumper_vo: world-frame feature cloud, each keyframe.
+pub const JUMPER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/cloud", 1, 4);
+/// rover_vo: world-frame feature cloud, each keyframe.
+pub const ROVER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/rover_vo/cloud", 1, 4);
+/// mapper: changed cells only.
+pub const MAP_UPDATES: TopicSpec = TopicSpec::fixed("hopnav/mapper/cells", 0, 16);
+/// planner: the current path.
+pub const PATH: TopicSpec = TopicSpec::fixed("hopnav/planner/path", 1, 2);
+/// planner → physics: rover drive command.
+pub const DRIVE_COMMAND: TopicSpec = TopicSpec::fixed("hopnav/planner/drive", 1, 4);
+/// planner → physics: jump request.
+pub const JUMP_REQUEST: TopicSpec = TopicSpec::fixed("hopnav/planner/jump", 1, 4);
+/// supervisor → all: launch-wide control.
+pub const CONTROL: TopicSpec = TopicSpec::fixed("hopnav/control", 1, 4);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn topic_names_are_unique() {
+        let all = [
+            &HEARTBEAT,
+            &PROBE_IMAGE,
+            &BODY_STATES,
+            &ALTIMETER,
+            &IMU,
+            &JUMPER_IMAGE,
+            &ROVER_STEREO,
+            &JUMPER_POSE,
+            &ROVER_POSE,
+            &JUMPER_CLOUD,
+            &ROVER_CLOUD,
+            &MAP_UPDATES,
+            &PATH,
+            &DRIVE_COMMAND,
+            &JUMP_REQUEST,
+            &CONTROL,
+        ];
+        let mut names: Vec<_> = all.iter().map(|spec| spec.name.clone()).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), all.len());
+        assert_ne!(step("a").name, step("b").name);
+    }
+}

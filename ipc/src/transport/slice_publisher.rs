@@ -1,0 +1,167 @@
+//! Publisher of slices (images, clouds, cell updates) with an announcing header.
+
+use core::mem::MaybeUninit;
+
+use iceoryx2::node::Node;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher as RawPublisher;
+use iceoryx2::port::update_connections::UpdateConnections;
+use iceoryx2::prelude::{AllocationStrategy, ZeroCopySend};
+
+use super::open::{slice_data_service, event_service, port_error};
+use super::{OpenError, SendError};
+use crate::IpcService;
+use crate::stamp::monotonic_now_ns;
+use crate::topics::TopicSpec;
+use crate::validate::SliceHeader;
+
+/// Publishes `[H::Element]` slices with header `H`. Memory is allocated once, statically, for
+/// the largest slice the port was opened for: no growth, no reallocation on the hot path.
+#[derive(Debug)]
+pub struct SlicePublisher<H: SliceHeader + ZeroCopySend>
+where
+    H::Element: ZeroCopySend,
+{
+    port: RawPublisher<IpcService, [H::Element], H>,
+    notifier: Notifier<IpcService>,
+    topic: String,
+    max_len: usize,
+    next_sequence: u64,
+}
+
+impl<H: SliceHeader + ZeroCopySend> SlicePublisher<H>
+where
+    H::Element: ZeroCopySend,
+{
+    /// Opens the topic with a publisher able to send slices of up to `max_len` elements.
+    pub fn open(
+        node: &Node<IpcService>,
+        spec: &TopicSpec,
+        max_len: usize,
+    ) -> Result<Self, OpenError> {
+        let data = slice_data_service::<H::Element, H>(node, spec)?;
+        let events = event_service(node, spec)?;
+        let port = data
+            .publisher_builder()
+            .initial_max_slice_len(max_len.max(1))
+            .allocation_strategy(AllocationStrategy::Static)
+            .create()
+            .map_err(|error| port_error(spec, error))?;
+        let notifier = events
+            .notifier_builder()
+            .create()
+            .map_err(|error| port_error(spec, error))?;
+        Ok(Self {
+            port,
+            notifier,
+            topic: spec.name.to_string(),
+            max_len: max_len.max(1),
+            next_sequence: 0,
+        })
+    }
+
+    /// Loans `len` elements and writes element `i` as `element(i)` straight into shared
+    /// memory (one pass, no zeroing), lets `header` fill the header, then stamps, sends and
+    /// notifies.
+    pub fn send_from_fn(
+        &mut self,
+        len: usize,
+        header: impl FnOnce(&mut H),
+        element: impl FnMut(usize) -> H::Element,
+    ) -> Result<usize, SendError> {
+        let mut sample = self.loan(len)?;
+        *sample.user_header_mut() = H::default();
+        header(sample.user_header_mut());
+        let sample = sample.write_from_fn(element);
+        self.finish(sample)
+    }
+
+    /// Loans `len` elements initialised to `H::Element::default()` and hands them, with the
+    /// header, to `fill`, which draws in place (a renderer writes pixels in any order). If
+    /// `fill` fails, nothing is sent and its reason is returned.
+    pub fn send_with<E: core::fmt::Display>(
+        &mut self,
+        len: usize,
+        fill: impl FnOnce(&mut H, &mut [H::Element]) -> Result<(), E>,
+    ) -> Result<usize, SendError> {
+        let sample = self.loan(len)?;
+        let mut sample = sample.write_from_fn(|_| H::Element::default());
+        // The header is a few dozen bytes: fill a local copy, then write it into the sample,
+        // so header and payload are never borrowed mutably at once.
+        let mut header = H::default();
+        fill(&mut header, sample.payload_mut()).map_err(|error| SendError::Fill {
+            topic: self.topic.clone(),
+            reason: error.to_string(),
+        })?;
+        *sample.user_header_mut() = header;
+        self.finish(sample)
+    }
+
+    /// The largest slice this port can send.
+    pub fn max_len(&self) -> usize {
+        self.max_len
+    }
+
+    /// Connects subscribers that appeared since the last send and delivers the topic history
+    /// to them (a restarted process recovers its last state this way).
+    pub fn update_connections(&self) -> Result<(), SendError> {
+        self.port
+            .update_connections()
+            .map_err(|error| SendError::Deliver {
+                topic: self.topic.clone(),
+                reason: format!("update connections: {error:?}"),
+            })
+    }
+
+    /// Sets the next sequence number, e.g. to continue after a restart from history.
+    pub fn continue_sequence_after(&mut self, last_sequence: u64) {
+        self.next_sequence = last_sequence.saturating_add(1);
+    }
+
+    fn loan(
+        &self,
+        len: usize,
+    ) -> Result<
+        iceoryx2::sample_mut_uninit::SampleMutUninit<
+            IpcService,
+            [MaybeUninit<H::Element>],
+            H,
+        >,
+        SendError,
+    > {
+        if len > self.max_len {
+            return Err(SendError::SliceTooLong {
+                topic: self.topic.clone(),
+                requested: len,
+                max: self.max_len,
+            });
+        }
+        self.port
+            .loan_slice_uninit(len)
+            .map_err(|error| SendError::Loan {
+                topic: self.topic.clone(),
+                reason: format!("{error:?}"),
+            })
+    }
+
+    fn finish(
+        &mut self,
+        mut sample: iceoryx2::sample_mut::SampleMut<IpcService, [H::Element], H>,
+    ) -> Result<usize, SendError> {
+        let stamp = sample.user_header_mut().stamp_mut();
+        stamp.sequence = self.next_sequence;
+        stamp.publish_stamp_ns = monotonic_now_ns();
+        self.next_sequence += 1;
+        let reached = sample.send().map_err(|error| SendError::Deliver {
+            topic: self.topic.clone(),
+            reason: format!("{error:?}"),
+        })?;
+        self.notifier
+            .notify()
+            .map_err(|error| SendError::Deliver {
+                topic: self.topic.clone(),
+                reason: format!("notify: {error:?}"),
+            })?;
+        Ok(reached)
+    }
+}

@@ -1,0 +1,460 @@
+//! What consumers check before they trust a sample, and how they count what they refuse.
+//!
+//! A sample from shared memory is input like any other: it may come from a crashed, restarted
+//! or faulty producer. Consumers check headers (dims against slice length, finite numbers,
+//! known codes) and sequence order, reject what fails, count it, and go on.
+
+use crate::messages::{
+    AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
+    DriveCommand, FeaturePoint, FrameTick, Heartbeat, ImageHeader, ImuSample, JumpRequest,
+    MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot,
+    SampleStamp,
+};
+
+/// Why a sample was rejected.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Rejection {
+    /// A number that must be finite is NaN or infinite.
+    #[error("non-finite value in field {0}")]
+    NonFinite(&'static str),
+    /// An enumeration field holds a code this build does not know.
+    #[error("unknown code {code} in field {field}")]
+    UnknownCode {
+        /// Field name.
+        field: &'static str,
+        /// The code found.
+        code: u32,
+    },
+    /// The header's dimensions do not match the slice it came with.
+    #[error("header announces {expected} elements but the slice holds {actual}")]
+    LengthMismatch {
+        /// Elements the header announces.
+        expected: usize,
+        /// Elements in the slice.
+        actual: usize,
+    },
+    /// A dimension is zero or inconsistent (e.g. stride shorter than a row).
+    #[error("bad dimensions: {0}")]
+    BadDimensions(&'static str),
+    /// The sequence number did not increase for this publisher.
+    #[error("sequence {received} does not follow {last} from the same publisher")]
+    StaleSequence {
+        /// Last accepted sequence.
+        last: u64,
+        /// Sequence received.
+        received: u64,
+    },
+    /// An element of the slice failed its own check.
+    #[error("element {index} invalid: {reason}")]
+    BadElement {
+        /// Index in the slice.
+        index: usize,
+        /// What was wrong.
+        reason: &'static str,
+    },
+}
+
+/// A message that leads with a [`SampleStamp`] and can check its own fields.
+pub trait Message: Copy + Default + core::fmt::Debug + 'static {
+    /// The sample's identity and timing.
+    fn stamp(&self) -> &SampleStamp;
+    /// Mutable access for the publisher, which fills sequence and publish stamp.
+    fn stamp_mut(&mut self) -> &mut SampleStamp;
+    /// Field checks beyond the stamp.
+    fn validate(&self) -> Result<(), Rejection> {
+        Ok(())
+    }
+}
+
+/// A user header that announces the slice it travels with.
+pub trait SliceHeader: Message {
+    /// Element type of the slice.
+    type Element: Copy + Default + core::fmt::Debug + 'static;
+    /// Checks the header against the slice and, where cheap, each element.
+    fn validate_slice(&self, elements: &[Self::Element]) -> Result<(), Rejection>;
+}
+
+fn finite(field: &'static str, values: &[f64]) -> Result<(), Rejection> {
+    if values.iter().all(|value| value.is_finite()) {
+        Ok(())
+    } else {
+        Err(Rejection::NonFinite(field))
+    }
+}
+
+fn known<T>(field: &'static str, code: u32, parse: fn(u32) -> Option<T>) -> Result<(), Rejection> {
+    parse(code)
+        .map(|_| ())
+        .ok_or(Rejection::UnknownCode { field, code })
+}
+
+fn length(expected: usize, actual: usize) -> Result<(), Rejection> {
+    if expected == actual {
+        Ok(())
+    } else {
+        Err(Rejection::LengthMismatch { expected, actual })
+    }
+}
+
+macro_rules! stamped {
+    ($type:ty, |$msg:ident| $check:block) => {
+        impl Message for $type {
+            fn stamp(&self) -> &SampleStamp {
+                &self.stamp
+            }
+            fn stamp_mut(&mut self) -> &mut SampleStamp {
+                &mut self.stamp
+            }
+            fn validate(&self) -> Result<(), Rejection> {
+                let $msg = self;
+                $check
+            }
+        }
+    };
+}
+
+stamped!(FrameTick, |tick| {
+    known("command", tick.command, crate::messages::FrameCommand::from_code)?;
+    known("mode", tick.mode, crate::messages::ClockMode::from_code)
+});
+stamped!(Heartbeat, |heartbeat| {
+    known("state", heartbeat.state, ProcessState::from_code)
+});
+stamped!(BodyStates, |states| {
+    for body in [&states.jumper, &states.rover] {
+        if !body.world_from_body.is_valid() {
+            return Err(Rejection::NonFinite("world_from_body"));
+        }
+        finite("linear_velocity_mps", &body.linear_velocity_mps)?;
+        finite("angular_velocity_radps", &body.angular_velocity_radps)?;
+    }
+    Ok(())
+});
+stamped!(AltimeterSample, |sample| {
+    finite(
+        "altimeter",
+        &[sample.pressure_pa, sample.altitude_m, sample.altitude_sigma_m],
+    )
+});
+stamped!(ImuSample, |sample| {
+    finite("attitude_xyzw", &sample.attitude_xyzw)?;
+    finite("angular_rate_radps", &sample.angular_rate_radps)?;
+    finite("specific_force_mps2", &sample.specific_force_mps2)
+});
+stamped!(PoseEstimate, |pose| {
+    if !pose.world_from_body.is_valid() {
+        return Err(Rejection::NonFinite("world_from_body"));
+    }
+    finite("confidence", &[pose.confidence, pose.scale])?;
+    known("robot", pose.robot, Robot::from_code)
+});
+stamped!(DriveCommand, |command| {
+    finite(
+        "drive",
+        &[command.waypoint_x_m, command.waypoint_y_m, command.speed_mps],
+    )
+});
+stamped!(JumpRequest, |request| { finite("target_m", &request.target_m) });
+stamped!(Control, |control| {
+    known("kind", control.kind, ControlKind::from_code)
+});
+stamped!(ImageHeader, |header| {
+    known("format", header.format, PixelFormat::from_code)?;
+    let intrinsics = &header.intrinsics;
+    finite(
+        "intrinsics",
+        &[
+            intrinsics.fx_px,
+            intrinsics.fy_px,
+            intrinsics.cx_px,
+            intrinsics.cy_px,
+            header.baseline_m,
+        ],
+    )?;
+    if header.width_px == 0 || header.height_px == 0 {
+        return Err(Rejection::BadDimensions("width or height is zero"));
+    }
+    if header.stride_bytes < header.width_px {
+        return Err(Rejection::BadDimensions("stride shorter than a row"));
+    }
+    if !(1..=2).contains(&header.view_count) {
+        return Err(Rejection::BadDimensions("view_count must be 1 or 2"));
+    }
+    Ok(())
+});
+stamped!(CloudHeader, |header| {
+    if !header.world_from_camera.is_valid() {
+        return Err(Rejection::NonFinite("world_from_camera"));
+    }
+    known("robot", header.robot, Robot::from_code)
+});
+stamped!(MapHeader, |header| {
+    finite(
+        "map geometry",
+        &[header.origin_x_m, header.origin_y_m, header.cell_size_m],
+    )?;
+    if header.cell_size_m <= 0.0 || header.width_cells == 0 || header.height_cells == 0 {
+        return Err(Rejection::BadDimensions("empty grid or non-positive cell size"));
+    }
+    Ok(())
+});
+stamped!(PathHeader, |_header| { Ok(()) });
+
+impl SliceHeader for ImageHeader {
+    type Element = u8;
+    fn validate_slice(&self, pixels: &[u8]) -> Result<(), Rejection> {
+        self.validate()?;
+        length(self.expected_len_bytes(), pixels.len())
+    }
+}
+
+impl SliceHeader for CloudHeader {
+    type Element = FeaturePoint;
+    fn validate_slice(&self, points: &[FeaturePoint]) -> Result<(), Rejection> {
+        self.validate()?;
+        length(self.point_count as usize, points.len())?;
+        match points.iter().position(|point| !point.is_valid()) {
+            Some(index) => Err(Rejection::BadElement {
+                index,
+                reason: "non-finite position or sigma",
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+impl SliceHeader for MapHeader {
+    type Element = CellUpdate;
+    fn validate_slice(&self, cells: &[CellUpdate]) -> Result<(), Rejection> {
+        self.validate()?;
+        length(self.update_count as usize, cells.len())?;
+        let bad = cells.iter().position(|cell| {
+            cell.x >= self.width_cells
+                || cell.y >= self.height_cells
+                || CellClass::from_code(cell.class).is_none()
+        });
+        match bad {
+            Some(index) => Err(Rejection::BadElement {
+                index,
+                reason: "cell outside the grid or unknown class",
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+impl SliceHeader for PathHeader {
+    type Element = PathPoint;
+    fn validate_slice(&self, points: &[PathPoint]) -> Result<(), Rejection> {
+        length(self.point_count as usize, points.len())?;
+        match points
+            .iter()
+            .position(|point| !(point.x_m.is_finite() && point.y_m.is_finite()))
+        {
+            Some(index) => Err(Rejection::BadElement {
+                index,
+                reason: "non-finite waypoint",
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Remembers the last sequence of each publisher (bounded) and refuses repeats and regressions.
+/// A restarted publisher is a new origin and starts afresh.
+#[derive(Debug)]
+pub struct SequenceGuard<Origin: PartialEq + Copy> {
+    last_by_origin: Vec<(Origin, u64)>,
+    capacity: usize,
+}
+
+impl<Origin: PartialEq + Copy> SequenceGuard<Origin> {
+    /// A guard remembering at most `capacity` publishers (the least recent is forgotten).
+    pub fn new(capacity: usize) -> Self {
+        Self {
+            last_by_origin: Vec::with_capacity(capacity.max(1)),
+            capacity: capacity.max(1),
+        }
+    }
+
+    /// Accepts `sequence` from `origin` if it is newer than the last one seen from it.
+    pub fn check(&mut self, origin: Origin, sequence: u64) -> Result<(), Rejection> {
+        if let Some(index) = self.last_by_origin.iter().position(|(o, _)| *o == origin) {
+            let (_, last) = self.last_by_origin.remove(index);
+            if sequence <= last {
+                self.last_by_origin.push((origin, last));
+                return Err(Rejection::StaleSequence {
+                    last,
+                    received: sequence,
+                });
+            }
+        } else if self.last_by_origin.len() == self.capacity {
+            self.last_by_origin.remove(0);
+        }
+        self.last_by_origin.push((origin, sequence));
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::messages::{CameraIntrinsics, Pose3};
+
+    fn image_header(width_px: u32, height_px: u32, view_count: u32) -> ImageHeader {
+        ImageHeader {
+            intrinsics: CameraIntrinsics {
+                fx_px: 386.3,
+                fy_px: 386.3,
+                cx_px: 160.0,
+                cy_px: 160.0,
+            },
+            width_px,
+            height_px,
+            stride_bytes: width_px,
+            format: PixelFormat::Mono8.code(),
+            view_count,
+            robot: Robot::Jumper.code(),
+            ..ImageHeader::default()
+        }
+    }
+
+    #[test]
+    fn image_dims_must_match_slice_length() {
+        let header = image_header(4, 3, 2);
+        assert_eq!(header.validate_slice(&[0; 24]), Ok(()));
+        assert_eq!(
+            header.validate_slice(&[0; 23]),
+            Err(Rejection::LengthMismatch {
+                expected: 24,
+                actual: 23
+            })
+        );
+    }
+
+    #[test]
+    fn image_rejects_bad_codes_dims_and_nan() {
+        let mut header = image_header(4, 3, 1);
+        header.format = 99;
+        assert!(matches!(
+            header.validate_slice(&[0; 12]),
+            Err(Rejection::UnknownCode { field: "format", .. })
+        ));
+        let mut header = image_header(4, 3, 1);
+        header.stride_bytes = 2;
+        assert!(matches!(
+            header.validate(),
+            Err(Rejection::BadDimensions(_))
+        ));
+        let mut header = image_header(0, 3, 1);
+        assert!(header.validate().is_err());
+        header = image_header(4, 3, 3);
+        assert!(header.validate().is_err());
+        header = image_header(4, 3, 1);
+        header.intrinsics.fx_px = f64::NAN;
+        assert_eq!(header.validate(), Err(Rejection::NonFinite("intrinsics")));
+    }
+
+    #[test]
+    fn cloud_rejects_non_finite_points_and_count_mismatch() {
+        let header = CloudHeader {
+            point_count: 2,
+            robot: Robot::Rover.code(),
+            world_from_camera: Pose3::default(),
+            ..CloudHeader::default()
+        };
+        let mut points = [FeaturePoint::default(); 2];
+        assert_eq!(header.validate_slice(&points), Ok(()));
+        assert!(header.validate_slice(&points[..1]).is_err());
+        points[1].position_m[2] = f32::INFINITY;
+        assert_eq!(
+            header.validate_slice(&points),
+            Err(Rejection::BadElement {
+                index: 1,
+                reason: "non-finite position or sigma"
+            })
+        );
+    }
+
+    #[test]
+    fn map_rejects_cells_outside_grid() {
+        let header = MapHeader {
+            cell_size_m: 0.5,
+            width_cells: 4,
+            height_cells: 4,
+            update_count: 1,
+            ..MapHeader::default()
+        };
+        let inside = CellUpdate {
+            x: 3,
+            y: 3,
+            class: CellClass::Obstacle.code(),
+            ..CellUpdate::default()
+        };
+        assert_eq!(header.validate_slice(&[inside]), Ok(()));
+        let outside = CellUpdate { x: 4, ..inside };
+        assert!(header.validate_slice(&[outside]).is_err());
+    }
+
+    #[test]
+    fn pose_rejects_non_unit_quaternion() {
+        let mut pose = PoseEstimate {
+            robot: Robot::Jumper.code(),
+            ..PoseEstimate::default()
+        };
+        assert_eq!(pose.validate(), Ok(()));
+        pose.world_from_body.orientation_xyzw = [0.0, 0.0, 0.0, 2.0];
+        assert!(pose.validate().is_err());
+    }
+
+    #[test]
+    fn sequence_guard_refuses_repeats_but_accepts_new_origins() {
+        let mut guard = SequenceGuard::new(2);
+        assert!(guard.check(1_u32, 0).is_ok());
+        assert!(guard.check(1, 1).is_ok());
+        assert!(guard.check(1, 1).is_err());
+        assert!(guard.check(1, 0).is_err());
+        assert!(guard.check(2, 0).is_ok(), "a restarted publisher starts over");
+        assert!(guard.check(1, 2).is_ok());
+        assert!(guard.check(3, 5).is_ok(), "evicts the least recent origin");
+        assert!(guard.check(2, 0).is_ok(), "origin 2 was forgotten");
+    }
+
+    #[test]
+    fn arbitrary_headers_never_panic() {
+        let mut state = 0x1234_5678_9abc_def1_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..10_000 {
+            let header = ImageHeader {
+                width_px: next() as u32,
+                height_px: next() as u32,
+                stride_bytes: next() as u32,
+                view_count: next() as u32 % 4,
+                format: next() as u32 % 3,
+                intrinsics: CameraIntrinsics {
+                    fx_px: f64::from_bits(next()),
+                    ..CameraIntrinsics::default()
+                },
+                ..ImageHeader::default()
+            };
+            let _ = header.validate_slice(&[0u8; 64]);
+            let map = MapHeader {
+                width_cells: next() as u32,
+                height_cells: next() as u32,
+                update_count: next() as u32 % 3,
+                cell_size_m: f64::from_bits(next()),
+                ..MapHeader::default()
+            };
+            let _ = map.validate_slice(&[CellUpdate {
+                x: next() as u32,
+                class: next() as u32,
+                ..CellUpdate::default()
+            }]);
+        }
+    }
+}

@@ -54,7 +54,12 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
     let restart = &config.restart;
     check("restart.max_restarts", restart.max_restarts, 0, 1000)?;
     check_f64("restart.window_s", restart.window_s, 0.1, 86_400.0)?;
-    check("restart.backoff_initial_ms", restart.backoff_initial_ms, 0, 60_000)?;
+    check(
+        "restart.backoff_initial_ms",
+        restart.backoff_initial_ms,
+        0,
+        60_000,
+    )?;
     check(
         "restart.backoff_max_ms",
         restart.backoff_max_ms,
@@ -71,7 +76,9 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
     for (name, process) in &config.processes {
         let valid_name = !name.is_empty()
             && name.len() <= 32
-            && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+            && name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
         if !valid_name {
             return Err(ConfigError::OutOfRange {
                 key: format!("processes.{name}"),
@@ -80,7 +87,12 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
             });
         }
         check(&format!("processes.{name}.stage"), process.stage, 0, 15)?;
-        check_f64(&format!("processes.{name}.budget_ms"), process.budget_ms, 0.01, 60_000.0)?;
+        check_f64(
+            &format!("processes.{name}.budget_ms"),
+            process.budget_ms,
+            0.01,
+            60_000.0,
+        )?;
     }
     check("probe.width_px", config.probe.width_px, 1, 8192)?;
     check("probe.height_px", config.probe.height_px, 1, 8192)?;
@@ -108,7 +120,10 @@ mod tests {
         assert!(message.contains("run.frame_rate_hz"), "{message}");
         assert!(message.contains("[0.1, 1000]"), "{message}");
         let message = error_of("[processes.probe_sink]\nbudget_ms = -3.0\n");
-        assert!(message.contains("processes.probe_sink.budget_ms"), "{message}");
+        assert!(
+            message.contains("processes.probe_sink.budget_ms"),
+            "{message}"
+        );
         let message = error_of("[restart]\nbackoff_initial_ms = 500\nbackoff_max_ms = 100\n");
         assert!(message.contains("restart.backoff_max_ms"), "{message}");
         let message = error_of("[run]\nframe_rate_hz = nan\n");
@@ -122,7 +137,10 @@ mod tests {
         let message = error_of("[run]\nframes = \"many\"\n");
         assert!(message.contains("run.frames"), "{message}");
         let message = error_of("[processes.probe_sink]\nrestart = \"sometimes\"\n");
-        assert!(message.contains("processes.probe_sink.restart"), "{message}");
+        assert!(
+            message.contains("processes.probe_sink.restart"),
+            "{message}"
+        );
     }
 
     #[test]

@@ -71,10 +71,20 @@ mod tests {
     #[test]
     fn truncated_and_padded_bytes_are_rejected() {
         let mut buffer = Vec::new();
-        encode_into(&Sample { frame_index: 1, payload: vec![9; 16] }, &mut buffer).expect("encode");
+        encode_into(
+            &Sample {
+                frame_index: 1,
+                payload: vec![9; 16],
+            },
+            &mut buffer,
+        )
+        .expect("encode");
         assert!(decode::<Sample>(&buffer[..buffer.len() - 1]).is_err());
         buffer.push(0);
-        assert!(matches!(decode::<Sample>(&buffer), Err(CodecError::TrailingBytes(1))));
+        assert!(matches!(
+            decode::<Sample>(&buffer),
+            Err(CodecError::TrailingBytes(1))
+        ));
     }
 
     #[test]

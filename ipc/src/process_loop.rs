@@ -31,6 +31,8 @@ pub struct ProcessIdentity {
     pub incarnation: u32,
     /// Heartbeat period when idle.
     pub heartbeat_period: Duration,
+    /// The resolved configuration file of the launch.
+    pub config_path: std::path::PathBuf,
 }
 
 /// What a process gets to open its ports and read its settings.
@@ -124,10 +126,8 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
     let namespace = Namespace::new(&identity.run_id)?;
     let node = namespace.create_node(&identity.name)?;
     let context = ProcessContext { node, identity };
-    let step_commands = Subscriber::<FrameTick>::open(
-        &context.node,
-        &topics::step(&context.identity.name),
-    )?;
+    let step_commands =
+        Subscriber::<FrameTick>::open(&context.node, &topics::step(&context.identity.name))?;
     let mut heartbeat = HeartbeatSender {
         publisher: Publisher::open(&context.node, &topics::HEARTBEAT)?,
         template: Heartbeat {

@@ -7,8 +7,7 @@
 use crate::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
     DriveCommand, FeaturePoint, FrameTick, Heartbeat, ImageHeader, ImuSample, JumpRequest,
-    MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot,
-    SampleStamp,
+    MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot, SampleStamp,
 };
 
 /// Why a sample was rejected.
@@ -114,7 +113,11 @@ macro_rules! stamped {
 }
 
 stamped!(FrameTick, |tick| {
-    known("command", tick.command, crate::messages::FrameCommand::from_code)?;
+    known(
+        "command",
+        tick.command,
+        crate::messages::FrameCommand::from_code,
+    )?;
     known("mode", tick.mode, crate::messages::ClockMode::from_code)
 });
 stamped!(Heartbeat, |heartbeat| {
@@ -133,7 +136,11 @@ stamped!(BodyStates, |states| {
 stamped!(AltimeterSample, |sample| {
     finite(
         "altimeter",
-        &[sample.pressure_pa, sample.altitude_m, sample.altitude_sigma_m],
+        &[
+            sample.pressure_pa,
+            sample.altitude_m,
+            sample.altitude_sigma_m,
+        ],
     )
 });
 stamped!(ImuSample, |sample| {
@@ -151,10 +158,16 @@ stamped!(PoseEstimate, |pose| {
 stamped!(DriveCommand, |command| {
     finite(
         "drive",
-        &[command.waypoint_x_m, command.waypoint_y_m, command.speed_mps],
+        &[
+            command.waypoint_x_m,
+            command.waypoint_y_m,
+            command.speed_mps,
+        ],
     )
 });
-stamped!(JumpRequest, |request| { finite("target_m", &request.target_m) });
+stamped!(JumpRequest, |request| {
+    finite("target_m", &request.target_m)
+});
 stamped!(Control, |control| {
     known("kind", control.kind, ControlKind::from_code)
 });
@@ -194,7 +207,9 @@ stamped!(MapHeader, |header| {
         &[header.origin_x_m, header.origin_y_m, header.cell_size_m],
     )?;
     if header.cell_size_m <= 0.0 || header.width_cells == 0 || header.height_cells == 0 {
-        return Err(Rejection::BadDimensions("empty grid or non-positive cell size"));
+        return Err(Rejection::BadDimensions(
+            "empty grid or non-positive cell size",
+        ));
     }
     Ok(())
 });
@@ -338,7 +353,10 @@ mod tests {
         header.format = 99;
         assert!(matches!(
             header.validate_slice(&[0; 12]),
-            Err(Rejection::UnknownCode { field: "format", .. })
+            Err(Rejection::UnknownCode {
+                field: "format",
+                ..
+            })
         ));
         let mut header = image_header(4, 3, 1);
         header.stride_bytes = 2;
@@ -414,7 +432,10 @@ mod tests {
         assert!(guard.check(1, 1).is_ok());
         assert!(guard.check(1, 1).is_err());
         assert!(guard.check(1, 0).is_err());
-        assert!(guard.check(2, 0).is_ok(), "a restarted publisher starts over");
+        assert!(
+            guard.check(2, 0).is_ok(),
+            "a restarted publisher starts over"
+        );
         assert!(guard.check(1, 2).is_ok());
         assert!(guard.check(3, 5).is_ok(), "evicts the least recent origin");
         assert!(guard.check(2, 0).is_ok(), "origin 2 was forgotten");

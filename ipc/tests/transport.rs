@@ -75,7 +75,9 @@ fn corrupt_and_repeated_samples_are_rejected_and_counted() {
     let node = namespace.create_node("test").expect("node");
     let subscriber = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("sub");
     let mut publisher = Publisher::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("pub");
-    publisher.send_with(|heartbeat| heartbeat.state = 77).expect("send");
+    publisher
+        .send_with(|heartbeat| heartbeat.state = 77)
+        .expect("send");
     publisher.send_with(|_| {}).expect("send");
     publisher.continue_sequence_after(0); // replays sequence 1
     publisher.send_with(|_| {}).expect("send");
@@ -96,7 +98,11 @@ fn image_slices_are_drawn_in_place_and_validated() {
     let subscriber = SliceSubscriber::<ImageHeader>::open(&node, &spec).expect("sub");
     let mut publisher = SlicePublisher::<ImageHeader>::open(&node, &spec, 64 * 64).expect("pub");
     publisher
-        .send_from_fn(64 * 64, |header| *header = image_header(64, 64), |i| i as u8)
+        .send_from_fn(
+            64 * 64,
+            |header| *header = image_header(64, 64),
+            |i| i as u8,
+        )
         .expect("send");
     publisher
         .send_with(32 * 32, |header, pixels| {
@@ -114,7 +120,10 @@ fn image_slices_are_drawn_in_place_and_validated() {
     assert_eq!(first.header().width_px, 64);
     assert_eq!(first.elements()[300], (300 % 256) as u8);
     drop(first);
-    let second = subscriber.receive().expect("receive").expect("second image");
+    let second = subscriber
+        .receive()
+        .expect("receive")
+        .expect("second image");
     assert_eq!(second.elements()[5], 200);
     assert_eq!(second.elements()[6], 0);
     drop(second);
@@ -131,7 +140,14 @@ fn oversized_and_refused_fills_are_clear_errors() {
     let error = publisher
         .send_from_fn(17, |_| {}, |_| 0)
         .expect_err("too long");
-    assert!(matches!(error, SendError::SliceTooLong { requested: 17, max: 16, .. }));
+    assert!(matches!(
+        error,
+        SendError::SliceTooLong {
+            requested: 17,
+            max: 16,
+            ..
+        }
+    ));
     let error = publisher
         .send_with(4, |_, _| Err("renderer refused"))
         .expect_err("fill refused");
@@ -143,8 +159,8 @@ fn late_subscriber_recovers_last_value_from_history() {
     let namespace = namespace("history");
     let node = namespace.create_node("test").expect("node");
     let spec = topics::step("history_probe");
-    let mut publisher = Publisher::<hopnav_ipc::messages::FrameTick>::open(&node, &spec)
-        .expect("pub");
+    let mut publisher =
+        Publisher::<hopnav_ipc::messages::FrameTick>::open(&node, &spec).expect("pub");
     publisher
         .send_with(|tick| {
             tick.stamp.frame_index = 41;
@@ -155,6 +171,9 @@ fn late_subscriber_recovers_last_value_from_history() {
     let subscriber =
         Subscriber::<hopnav_ipc::messages::FrameTick>::open(&node, &spec).expect("sub");
     publisher.update_connections().expect("connect");
-    let last = subscriber.receive_latest().expect("receive").expect("history");
+    let last = subscriber
+        .receive_latest()
+        .expect("receive")
+        .expect("history");
     assert_eq!(last.stamp.frame_index, 41);
 }

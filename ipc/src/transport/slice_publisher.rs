@@ -8,7 +8,7 @@ use iceoryx2::port::publisher::Publisher as RawPublisher;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::{AllocationStrategy, ZeroCopySend};
 
-use super::open::{slice_data_service, event_service, port_error};
+use super::open::{event_service, port_error, slice_data_service};
 use super::{OpenError, SendError};
 use crate::IpcService;
 use crate::stamp::monotonic_now_ns;
@@ -61,18 +61,17 @@ where
     }
 
     /// Loans `len` elements and writes element `i` as `element(i)` straight into shared
-    /// memory (one pass, no zeroing), lets `header` fill the header, then stamps, sends and
-    /// notifies.
+    /// memory (one pass, no zeroing); then `header` fills the header (so it can record how
+    /// long the fill took), and the sample is stamped, sent and notified.
     pub fn send_from_fn(
         &mut self,
         len: usize,
         header: impl FnOnce(&mut H),
         element: impl FnMut(usize) -> H::Element,
     ) -> Result<usize, SendError> {
-        let mut sample = self.loan(len)?;
+        let mut sample = self.loan(len)?.write_from_fn(element);
         *sample.user_header_mut() = H::default();
         header(sample.user_header_mut());
-        let sample = sample.write_from_fn(element);
         self.finish(sample)
     }
 
@@ -122,11 +121,7 @@ where
         &self,
         len: usize,
     ) -> Result<
-        iceoryx2::sample_mut_uninit::SampleMutUninit<
-            IpcService,
-            [MaybeUninit<H::Element>],
-            H,
-        >,
+        iceoryx2::sample_mut_uninit::SampleMutUninit<IpcService, [MaybeUninit<H::Element>], H>,
         SendError,
     > {
         if len > self.max_len {
@@ -156,12 +151,10 @@ where
             topic: self.topic.clone(),
             reason: format!("{error:?}"),
         })?;
-        self.notifier
-            .notify()
-            .map_err(|error| SendError::Deliver {
-                topic: self.topic.clone(),
-                reason: format!("notify: {error:?}"),
-            })?;
+        self.notifier.notify().map_err(|error| SendError::Deliver {
+            topic: self.topic.clone(),
+            reason: format!("notify: {error:?}"),
+        })?;
         Ok(reached)
     }
 }

@@ -9,7 +9,7 @@ use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 use iceoryx2::sample::Sample;
 
-use super::open::{slice_data_service, event_service, port_error};
+use super::open::{event_service, port_error, slice_data_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
 use crate::topics::TopicSpec;
@@ -93,10 +93,13 @@ where
     /// The next valid sample, in place; `None` when drained.
     pub fn receive(&self) -> Result<Option<ValidSlice<H>>, ReceiveError> {
         loop {
-            let Some(sample) = self.port.receive().map_err(|error| ReceiveError::Transport {
-                topic: self.topic.clone(),
-                reason: format!("{error:?}"),
-            })?
+            let Some(sample) = self
+                .port
+                .receive()
+                .map_err(|error| ReceiveError::Transport {
+                    topic: self.topic.clone(),
+                    reason: format!("{error:?}"),
+                })?
             else {
                 return Ok(None);
             };

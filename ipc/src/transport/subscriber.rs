@@ -2,11 +2,11 @@
 
 use core::cell::{Cell, RefCell};
 
+use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
-use iceoryx2::identifiers::UniquePublisherId;
 
 use super::open::{data_service, event_service, port_error};
 use super::{OpenError, ReceiveError, RejectCounts};
@@ -61,10 +61,13 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
     /// The next valid sample, copied out (messages are small); `None` when drained.
     pub fn receive(&self) -> Result<Option<M>, ReceiveError> {
         loop {
-            let Some(sample) = self.port.receive().map_err(|error| ReceiveError::Transport {
-                topic: self.topic.clone(),
-                reason: format!("{error:?}"),
-            })?
+            let Some(sample) = self
+                .port
+                .receive()
+                .map_err(|error| ReceiveError::Transport {
+                    topic: self.topic.clone(),
+                    reason: format!("{error:?}"),
+                })?
             else {
                 return Ok(None);
             };
@@ -97,7 +100,11 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
             self.rejected.set(counts);
             return Err(rejection);
         }
-        if let Err(rejection) = self.sequence_guard.borrow_mut().check(origin, message.stamp().sequence) {
+        if let Err(rejection) = self
+            .sequence_guard
+            .borrow_mut()
+            .check(origin, message.stamp().sequence)
+        {
             let mut counts = self.rejected.get();
             counts.stale += 1;
             self.rejected.set(counts);

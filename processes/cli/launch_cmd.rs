@@ -1,0 +1,105 @@
+//! `hopnav launch`: the supervisor.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
+
+use crate::registry;
+
+#[derive(Debug, Args)]
+pub struct LaunchArgs {
+    /// TOML file overriding the embedded defaults (any subset of keys). Without it the
+    /// embedded default configuration runs.
+    config: Option<PathBuf>,
+    /// Lockstep: frame k+1 starts when every stage finished frame k; reproducible and as fast
+    /// as the machine allows. Default: real time at run.frame_rate_hz.
+    #[arg(long)]
+    lockstep: bool,
+    /// Number of frames to run (overrides run.frames).
+    #[arg(long, conflicts_with = "duration", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    frames: Option<u64>,
+    /// Simulated seconds to run (frames = duration × frame rate).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Folder for run folders (overrides run.out_dir); the report goes to OUT/<run id>/.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Use this run id instead of a fresh one ([A-Za-z0-9-], for tooling and tests).
+    #[arg(long)]
+    run_id: Option<String>,
+    /// No live status line.
+    #[arg(long)]
+    quiet: bool,
+}
+
+pub fn run(args: LaunchArgs) -> ExitCode {
+    let loaded = match &args.config {
+        Some(path) => hopnav_config::load_file(path),
+        None => hopnav_config::load(None),
+    };
+    let mut config = match loaded {
+        Ok(config) => config,
+        Err(error) => {
+            eprintln!("error: {error}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+    };
+    config.run.lockstep |= args.lockstep;
+    if let Some(frames) = args.frames {
+        config.run.frames = frames;
+    }
+    if let Some(duration_s) = args.duration {
+        if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= 1e6) {
+            eprintln!("error: --duration must be in (0, 1e6] seconds, got {duration_s}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+        config.run.frames = (duration_s * config.run.frame_rate_hz).ceil().max(1.0) as u64;
+    }
+    if let Some(out) = &args.out {
+        config.run.out_dir = out.display().to_string();
+    }
+    if let Some(run_id) = &args.run_id
+        && (run_id.is_empty()
+            || run_id.contains('_')
+            || hopnav_ipc::namespace::Namespace::new(run_id).is_err())
+    {
+        eprintln!("error: --run-id {run_id:?} must be 1..=48 characters of [A-Za-z0-9-]");
+        return ExitCode::from(crate::EXIT_CONFIG);
+    }
+    let executable = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(error) => {
+            eprintln!("error: cannot find the hopnav executable to start children: {error}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let options = LaunchOptions {
+        config,
+        executable,
+        known_processes: registry::names(),
+        run_id: args.run_id,
+        show_status: !args.quiet,
+    };
+    match launch(options) {
+        Ok(outcome) => {
+            let mut stdout = std::io::stdout().lock();
+            let _ = outcome.report.print_summary(&mut stdout);
+            println!("report: {}", outcome.run_dir.join("report.json").display());
+            match outcome.report.outcome.as_str() {
+                "completed" => ExitCode::SUCCESS,
+                "interrupted" => ExitCode::from(130),
+                _ => ExitCode::FAILURE,
+            }
+        }
+        Err(error @ LaunchError::UnknownProcess { .. }) => {
+            eprintln!("error: {error}");
+            ExitCode::from(crate::EXIT_CONFIG)
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,43 @@
+//! `hopnav`: the one executable. The supervisor re-executes it as `hopnav run <process>` for
+//! every child, so all processes share one build and one message layout.
+
+mod bench_cmd;
+mod launch_cmd;
+mod registry;
+mod run_cmd;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Cooperative Mars exploration runtime: a jumping scout and a ground rover as separate
+/// processes over iceoryx2 zero-copy shared memory, under a 10 fps supervisor.
+#[derive(Debug, Parser)]
+#[command(name = "hopnav", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Launch the process graph under the supervisor and write a run report.
+    Launch(launch_cmd::LaunchArgs),
+    /// Run one process of the graph (the supervisor starts these; not for direct use).
+    Run(run_cmd::RunArgs),
+    /// Benchmarks.
+    #[command(subcommand)]
+    Bench(bench_cmd::BenchCommand),
+}
+
+/// Exit code for a bad configuration or usage, as documented in the README.
+pub const EXIT_CONFIG: u8 = 2;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Launch(args) => launch_cmd::run(args),
+        Command::Run(args) => run_cmd::run(args),
+        Command::Bench(command) => bench_cmd::run(command),
+    }
+}

@@ -1,0 +1,27 @@
+//! Which processes this binary can run, by name.
+
+use hopnav_ipc::process_loop::{LoopError, LoopExit, ProcessIdentity, run_process};
+
+type Entry = fn(ProcessIdentity) -> Result<LoopExit, LoopError>;
+
+/// Every runnable process: name and entry point.
+pub const PROCESSES: &[(&str, Entry)] = &[
+    ("probe_source", run_process::<hopnav_probe::ProbeSource>),
+    ("probe_sink", run_process::<hopnav_probe::ProbeSink>),
+];
+
+/// The entry point of `name`.
+pub fn find(name: &str) -> Option<Entry> {
+    PROCESSES
+        .iter()
+        .find(|(known, _)| *known == name)
+        .map(|(_, entry)| *entry)
+}
+
+/// All names, for validation and help.
+pub fn names() -> Vec<String> {
+    PROCESSES
+        .iter()
+        .map(|(name, _)| (*name).to_owned())
+        .collect()
+}

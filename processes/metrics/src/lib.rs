@@ -1,0 +1,8 @@
+//! Measurement helpers shared by the supervisor's report and the benchmarks: latency
+//! summaries and plots that build with no system library.
+#![warn(missing_docs)]
+
+pub mod plot;
+mod summary;
+
+pub use summary::LatencySummary;

@@ -1,0 +1,184 @@
+//! Line plots as SVG: plotters' SVG backend writes text as SVG elements, so no font or system
+//! library is needed to build or to view them.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+/// One line of a plot.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points (x, y).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Axis scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear axis.
+    Linear,
+    /// Base-10 logarithmic axis (values must be positive).
+    Log,
+}
+
+/// What a line plot shows.
+#[derive(Debug, Clone)]
+pub struct LinePlot<'a> {
+    /// Title above the plot.
+    pub title: &'a str,
+    /// X axis label.
+    pub x_label: &'a str,
+    /// Y axis label.
+    pub y_label: &'a str,
+    /// X scaling.
+    pub x_scale: Scale,
+    /// Y scaling.
+    pub y_scale: Scale,
+    /// The lines.
+    pub series: &'a [Series],
+}
+
+/// Why a plot could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot draw plot {path}: {message}")]
+pub struct PlotError {
+    /// Output path.
+    pub path: String,
+    /// What failed.
+    pub message: String,
+}
+
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+fn range(values: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for value in values.filter(|v| v.is_finite() && (scale == Scale::Linear || *v > 0.0)) {
+        low = low.min(value);
+        high = high.max(value);
+    }
+    if !low.is_finite() {
+        return (1.0, 10.0);
+    }
+    match scale {
+        Scale::Linear if high > low => (low, high + (high - low) * 0.05),
+        Scale::Linear => (low - 1.0, high + 1.0),
+        Scale::Log => (low / 1.5, high * 1.5),
+    }
+}
+
+/// Draws `plot` into an SVG file at `path`.
+pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
+    let error = |message: String| PlotError {
+        path: path.display().to_string(),
+        message,
+    };
+    let all_points = || plot.series.iter().flat_map(|series| series.points.iter());
+    let x_range = range(all_points().map(|p| p.0), plot.x_scale);
+    let y_range = range(all_points().map(|p| p.1), plot.y_scale);
+    let root = SVGBackend::new(path, (960, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
+    macro_rules! draw {
+        ($x:expr, $y:expr) => {{
+            let mut chart = ChartBuilder::on(&root)
+                .caption(plot.title, ("sans-serif", 22))
+                .margin(16)
+                .x_label_area_size(48)
+                .y_label_area_size(72)
+                .build_cartesian_2d($x, $y)
+                .map_err(|e| error(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_desc(plot.x_label)
+                .y_desc(plot.y_label)
+                .draw()
+                .map_err(|e| error(e.to_string()))?;
+            for (index, series) in plot.series.iter().enumerate() {
+                let color = PALETTE[index % PALETTE.len()];
+                let points: Vec<(f64, f64)> = series
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
+                    .map_err(|e| error(e.to_string()))?
+                    .label(series.label.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                chart
+                    .draw_series(
+                        points
+                            .into_iter()
+                            .map(|p| Circle::new(p, 3, color.filled())),
+                    )
+                    .map_err(|e| error(e.to_string()))?;
+            }
+            chart
+                .configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .position(SeriesLabelPosition::UpperLeft)
+                .draw()
+                .map_err(|e| error(e.to_string()))?;
+        }};
+    }
+    match (plot.x_scale, plot.y_scale) {
+        (Scale::Log, Scale::Log) => {
+            draw!(
+                (x_range.0..x_range.1).log_scale(),
+                (y_range.0..y_range.1).log_scale()
+            )
+        }
+        (Scale::Log, Scale::Linear) => {
+            draw!((x_range.0..x_range.1).log_scale(), y_range.0..y_range.1)
+        }
+        (Scale::Linear, Scale::Log) => {
+            draw!(x_range.0..x_range.1, (y_range.0..y_range.1).log_scale())
+        }
+        (Scale::Linear, Scale::Linear) => draw!(x_range.0..x_range.1, y_range.0..y_range.1),
+    }
+    root.present().map_err(|e| error(e.to_string()))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_an_svg_with_title_and_labels() {
+        let dir = std::env::temp_dir().join(format!("hopnav-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("plot.svg");
+        let series = [Series {
+            label: "transport".into(),
+            points: vec![(64.0, 0.01), (4096.0, 0.011), (4.0e6, 0.012)],
+        }];
+        write_svg(
+            &path,
+            &LinePlot {
+                title: "latency",
+                x_label: "payload bytes",
+                y_label: "p50 ms",
+                x_scale: Scale::Log,
+                y_scale: Scale::Log,
+                series: &series,
+            },
+        )
+        .expect("plot");
+        let svg = std::fs::read_to_string(&path).expect("read");
+        assert!(svg.contains("<svg") && svg.contains("latency") && svg.contains("transport"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,0 +1,544 @@
+//! The supervisor's event loop: start the graph, tick frames, release stages, watch
+//! heartbeats, reap and restart children, and shut down.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use hopnav_config::HopnavConfig;
+use hopnav_ipc::IpcService;
+use hopnav_ipc::messages::{ClockMode, FrameCommand, FrameTick, Heartbeat, ProcessState};
+use hopnav_ipc::namespace::Namespace;
+use hopnav_ipc::stamp::monotonic_now_ns;
+use hopnav_ipc::transport::{Publisher, Subscriber};
+use iceoryx2::prelude::{CallbackProgression, WaitSet};
+use iceoryx2::waitset::WaitSetRunResult;
+
+use crate::LaunchError;
+use crate::child::{ChildProcess, ChildSpec};
+use crate::report::ExitRecord;
+use crate::restart::RestartDecision;
+use crate::scheduler::{FrameOutcome, FrameScheduler, Release};
+use crate::slot::{Phase, Slot};
+use crate::status_line::StatusLine;
+
+/// Longest the loop sleeps without an event: bounds how late it notices a dead child.
+const HOUSEKEEPING: Duration = Duration::from_millis(20);
+
+/// Why the frame loop ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LoopEnd {
+    /// Every requested frame completed.
+    Completed,
+    /// SIGINT or SIGTERM.
+    Interrupted,
+    /// Something made continuing impossible.
+    Stopped(String),
+}
+
+/// What the loop measured, kept after its ports are gone.
+#[derive(Debug)]
+pub struct LoopStats {
+    /// The process table with per-process statistics.
+    pub slots: Vec<Slot>,
+    /// End-to-end latency of each finished frame, ns.
+    pub end_to_end_ns: Vec<u64>,
+    /// Frames finished.
+    pub frames_completed: u64,
+    /// Frames finished while a process was down or skipped them.
+    pub frames_degraded: u64,
+    /// Frames given up on.
+    pub frames_abandoned: u64,
+    /// Frames over the frame period end to end.
+    pub end_to_end_misses: u64,
+}
+
+/// State of a running launch.
+pub struct FrameLoop {
+    config: HopnavConfig,
+    stats: LoopStats,
+    step_publishers: Vec<Publisher<FrameTick>>,
+    scheduler: FrameScheduler,
+    namespace: Namespace,
+    executable: PathBuf,
+    config_path: PathBuf,
+    status: StatusLine,
+    period: Duration,
+    started: Instant,
+    next_frame: u64,
+    stop: Option<LoopEnd>,
+}
+
+impl FrameLoop {
+    /// A loop over `slots`; nothing runs until [`Self::start_all`].
+    pub fn new(
+        config: HopnavConfig,
+        slots: Vec<Slot>,
+        step_publishers: Vec<Publisher<FrameTick>>,
+        namespace: Namespace,
+        executable: PathBuf,
+        config_path: PathBuf,
+        status: StatusLine,
+    ) -> Self {
+        let stages: Vec<u32> = slots.iter().map(|slot| slot.config.stage).collect();
+        let scheduler = FrameScheduler::new(&stages, config.run.lockstep);
+        let period = Duration::from_secs_f64(config.run.frame_period_s());
+        Self {
+            stats: LoopStats {
+                slots,
+                end_to_end_ns: Vec::with_capacity(config.run.frames.min(1 << 22) as usize),
+                frames_completed: 0,
+                frames_degraded: 0,
+                frames_abandoned: 0,
+                end_to_end_misses: 0,
+            },
+            config,
+            step_publishers,
+            scheduler,
+            namespace,
+            executable,
+            config_path,
+            status,
+            period,
+            started: Instant::now(),
+            next_frame: 0,
+            stop: None,
+        }
+    }
+
+    /// The measurements; drops the ports.
+    pub fn into_stats(self) -> LoopStats {
+        self.stats
+    }
+
+    fn spawn(&mut self, slot_index: usize) -> Result<(), LaunchError> {
+        let heartbeat_period_ms = (self.period.as_millis() as u64).max(1);
+        let slot = &mut self.stats.slots[slot_index];
+        let spec = ChildSpec {
+            executable: &self.executable,
+            name: &slot.name,
+            run_id: self.namespace.run_id(),
+            slot: slot_index,
+            incarnation: slot.incarnation,
+            config_path: &self.config_path,
+            heartbeat_period_ms,
+        };
+        let child = ChildProcess::spawn(&spec).map_err(|source| LaunchError::Spawn {
+            name: slot.name.clone(),
+            source,
+        })?;
+        slot.child = Some(child);
+        slot.begin_incarnation();
+        slot.phase = Phase::Starting {
+            since: Instant::now(),
+        };
+        slot.last_heartbeat = Instant::now();
+        Ok(())
+    }
+
+    /// Spawns every process and waits until all report ready.
+    pub fn start_all(
+        &mut self,
+        heartbeats: &Subscriber<Heartbeat>,
+        waitset: &WaitSet<IpcService>,
+    ) -> Result<(), LaunchError> {
+        for slot_index in 0..self.stats.slots.len() {
+            self.spawn(slot_index)?;
+        }
+        let timeout = Duration::from_secs_f64(self.config.run.startup_timeout_s);
+        let deadline = Instant::now() + timeout;
+        loop {
+            self.receive_heartbeats(heartbeats);
+            for slot in &mut self.stats.slots {
+                if let Some(exit) = slot.child.as_mut().and_then(ChildProcess::try_reap) {
+                    slot.child = None;
+                    return Err(LaunchError::DiedAtStartup {
+                        name: slot.name.clone(),
+                        reason: exit.to_string(),
+                    });
+                }
+            }
+            let waiting: Vec<&str> = self
+                .stats
+                .slots
+                .iter()
+                .filter(|slot| matches!(slot.phase, Phase::Starting { .. }))
+                .map(|slot| slot.name.as_str())
+                .collect();
+            if waiting.is_empty() {
+                break;
+            }
+            if Instant::now() >= deadline {
+                return Err(LaunchError::StartupTimeout {
+                    names: waiting.join(", "),
+                    timeout_s: self.config.run.startup_timeout_s,
+                });
+            }
+            match waitset
+                .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, HOUSEKEEPING)
+            {
+                Ok(WaitSetRunResult::Interrupt | WaitSetRunResult::TerminationRequest) => {
+                    return Err(LaunchError::Wait("interrupted during start-up".into()));
+                }
+                Ok(_) => {}
+                Err(error) => return Err(LaunchError::Wait(format!("{error:?}"))),
+            }
+        }
+        self.started = Instant::now();
+        Ok(())
+    }
+
+    /// Runs frames until all are done, a signal arrives, or the launch must stop.
+    pub fn run(
+        &mut self,
+        heartbeats: &Subscriber<Heartbeat>,
+        waitset: &WaitSet<IpcService>,
+    ) -> LoopEnd {
+        let frames = self.config.run.frames;
+        let mut next_tick_at = Instant::now();
+        loop {
+            let now = Instant::now();
+            let mut timeout = HOUSEKEEPING;
+            if !self.config.run.lockstep && self.next_frame < frames {
+                timeout = timeout.min(next_tick_at.saturating_duration_since(now));
+            }
+            match waitset
+                .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)
+            {
+                Ok(WaitSetRunResult::Interrupt | WaitSetRunResult::TerminationRequest) => {
+                    return LoopEnd::Interrupted;
+                }
+                Ok(_) => {}
+                Err(error) => {
+                    return LoopEnd::Stopped(format!("supervisor wait failed: {error:?}"));
+                }
+            }
+            self.receive_heartbeats(heartbeats);
+            self.reap_children();
+            self.watchdog();
+            self.restart_due();
+
+            if self.next_frame < frames {
+                let tick_due = if self.config.run.lockstep {
+                    self.scheduler.open_frame_count() == 0
+                } else {
+                    Instant::now() >= next_tick_at
+                };
+                if tick_due {
+                    self.start_frame();
+                    // Keep the cadence; if we fell more than a period behind, re-anchor.
+                    next_tick_at += self.period;
+                    if Instant::now() > next_tick_at + self.period {
+                        next_tick_at = Instant::now() + self.period;
+                    }
+                }
+            } else if self.scheduler.open_frame_count() == 0 {
+                self.print_status(true);
+                return LoopEnd::Completed;
+            }
+            if let Some(end) = self.stop.take() {
+                self.print_status(true);
+                return end;
+            }
+            self.print_status(false);
+        }
+    }
+
+    fn start_frame(&mut self) {
+        let frame_index = self.next_frame;
+        self.next_frame += 1;
+        let (releases, outcomes) = self.scheduler.start_frame(frame_index, monotonic_now_ns());
+        self.record_outcomes(&outcomes);
+        self.release(&releases);
+    }
+
+    fn release(&mut self, releases: &[Release]) {
+        let period_ns = self.period.as_nanos() as u64;
+        let mode = if self.config.run.lockstep {
+            ClockMode::Lockstep
+        } else {
+            ClockMode::RealTime
+        };
+        for release in releases {
+            let tick_stamp_ns = self
+                .scheduler
+                .tick_stamp_ns(release.frame_index)
+                .unwrap_or(0);
+            let Some(publisher) = self.step_publishers.get_mut(release.slot) else {
+                continue;
+            };
+            let sent = publisher.send_with(|tick| {
+                tick.stamp.frame_index = release.frame_index;
+                tick.stamp.sim_time_ns = release.frame_index.saturating_mul(period_ns);
+                tick.tick_stamp_ns = tick_stamp_ns;
+                tick.period_ns = period_ns;
+                tick.command = FrameCommand::Step.code();
+                tick.mode = mode.code();
+            });
+            if let Err(error) = sent {
+                self.stop = Some(LoopEnd::Stopped(format!(
+                    "cannot release frame {} to {}: {error}",
+                    release.frame_index, self.stats.slots[release.slot].name
+                )));
+            }
+        }
+    }
+
+    fn record_outcomes(&mut self, outcomes: &[FrameOutcome]) {
+        let period_ns = self.period.as_nanos() as u64;
+        for outcome in outcomes {
+            match outcome.end_to_end_ns {
+                Some(latency_ns) => {
+                    self.stats.frames_completed += 1;
+                    self.stats.end_to_end_ns.push(latency_ns);
+                    if latency_ns > period_ns {
+                        self.stats.end_to_end_misses += 1;
+                    }
+                }
+                None => {
+                    self.stats.frames_abandoned += 1;
+                    self.stats.end_to_end_misses += 1;
+                }
+            }
+            if outcome.degraded {
+                self.stats.frames_degraded += 1;
+            }
+        }
+    }
+
+    fn receive_heartbeats(&mut self, heartbeats: &Subscriber<Heartbeat>) {
+        heartbeats.clear_events();
+        while let Ok(Some(heartbeat)) = heartbeats.receive() {
+            self.on_heartbeat(&heartbeat);
+        }
+    }
+
+    fn on_heartbeat(&mut self, heartbeat: &Heartbeat) {
+        let slot_index = heartbeat.slot as usize;
+        let Some(slot) = self.stats.slots.get_mut(slot_index) else {
+            return;
+        };
+        let from_current = heartbeat.incarnation == slot.incarnation
+            && slot
+                .child
+                .as_ref()
+                .is_some_and(|child| child.pid() == heartbeat.pid);
+        if !from_current {
+            return; // a late heartbeat of a previous incarnation
+        }
+        slot.last_heartbeat = Instant::now();
+        slot.record_rejected(heartbeat.rejected_samples);
+        match heartbeat.state() {
+            Some(ProcessState::Ready) if matches!(slot.phase, Phase::Starting { .. }) => {
+                slot.phase = Phase::Running;
+                let since_start = self.started.elapsed().as_secs_f64();
+                if let Some(exit) = slot.exits.last_mut()
+                    && exit.recovered_after_s.is_none()
+                {
+                    exit.recovered_after_s = Some((since_start - exit.at_s).max(0.0));
+                }
+                let (releases, outcomes) = self.scheduler.set_live(slot_index, true);
+                self.record_outcomes(&outcomes);
+                self.release(&releases);
+            }
+            Some(ProcessState::Completed) => {
+                if let Some(frame_index) = heartbeat.completed_frame() {
+                    slot.record_cycle(heartbeat.processing_time_ns);
+                    let (releases, outcomes) = self.scheduler.on_completed(
+                        slot_index,
+                        frame_index,
+                        heartbeat.stamp.publish_stamp_ns,
+                    );
+                    self.record_outcomes(&outcomes);
+                    self.release(&releases);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn reap_children(&mut self) {
+        for slot_index in 0..self.stats.slots.len() {
+            let slot = &mut self.stats.slots[slot_index];
+            let Some(exit) = slot.child.as_mut().and_then(ChildProcess::try_reap) else {
+                continue;
+            };
+            slot.child = None;
+            let reason = if std::mem::take(&mut slot.killed_for_hang) {
+                format!(
+                    "hung (no heartbeat for {} frame periods), killed",
+                    self.config.watchdog.heartbeat_timeout_frames
+                )
+            } else {
+                exit.to_string()
+            };
+            slot.exits.push(ExitRecord {
+                frame_index: self.next_frame.saturating_sub(1),
+                at_s: self.started.elapsed().as_secs_f64(),
+                reason: reason.clone(),
+                recovered_after_s: None,
+            });
+            let name = slot.name.clone();
+            let decision = slot.restarts.on_exit(&exit, Instant::now());
+            let (releases, outcomes) = self.scheduler.set_live(slot_index, false);
+            self.record_outcomes(&outcomes);
+            self.release(&releases);
+            // The dead node's ports still count against the topics' limits until removed.
+            self.namespace.remove_dead_nodes();
+            let slot = &mut self.stats.slots[slot_index];
+            match decision {
+                RestartDecision::RestartAfter(delay) => {
+                    eprintln!("\n{name} {reason}; restarting in {} ms", delay.as_millis());
+                    slot.phase = Phase::WaitingToRestart {
+                        at: Instant::now() + delay,
+                    };
+                }
+                RestartDecision::LeaveStopped => {
+                    slot.phase = Phase::Stopped;
+                    if self.config.run.lockstep {
+                        self.stop = Some(LoopEnd::Stopped(format!(
+                            "{name} {reason} and its restart policy is {:?}; lockstep cannot continue without it",
+                            slot.config.restart
+                        )));
+                    } else {
+                        eprintln!("\n{name} {reason}; left stopped by its restart policy");
+                    }
+                }
+                RestartDecision::IntensityExceeded {
+                    restarts_in_window,
+                    window,
+                } => {
+                    slot.phase = Phase::Stopped;
+                    self.stop = Some(LoopEnd::Stopped(format!(
+                        "{name} {reason}: {restarts_in_window} restarts within {:.1} s exceed restart.max_restarts = {}",
+                        window.as_secs_f64(),
+                        self.config.restart.max_restarts
+                    )));
+                }
+            }
+        }
+    }
+
+    fn watchdog(&mut self) {
+        let silence_limit = self.period * self.config.watchdog.heartbeat_timeout_frames;
+        let startup_limit = Duration::from_secs_f64(self.config.run.startup_timeout_s);
+        let now = Instant::now();
+        for slot in &mut self.stats.slots {
+            let limit = match slot.phase {
+                Phase::Running => silence_limit,
+                Phase::Starting { .. } => startup_limit,
+                _ => continue,
+            };
+            if now.duration_since(slot.last_heartbeat) > limit
+                && let Some(child) = slot.child.as_mut()
+                && !slot.killed_for_hang
+            {
+                slot.hangs_detected += 1;
+                slot.killed_for_hang = true;
+                child.kill();
+            }
+        }
+    }
+
+    fn restart_due(&mut self) {
+        let now = Instant::now();
+        for slot_index in 0..self.stats.slots.len() {
+            let slot = &mut self.stats.slots[slot_index];
+            if let Phase::WaitingToRestart { at } = slot.phase
+                && now >= at
+            {
+                slot.incarnation += 1;
+                if let Err(error) = self.spawn(slot_index) {
+                    self.stop = Some(LoopEnd::Stopped(error.to_string()));
+                }
+            }
+        }
+    }
+
+    fn print_status(&mut self, force: bool) {
+        let frames = self.config.run.frames;
+        let sim_s = self.next_frame as f64 * self.period.as_secs_f64();
+        let slowest = self
+            .stats
+            .slots
+            .iter()
+            .max_by_key(|slot| slot.last_cycle_ns)
+            .map(|slot| format!("{} {:.2} ms", slot.name, slot.last_cycle_ns as f64 / 1e6))
+            .unwrap_or_default();
+        let misses: u64 = self.stats.slots.iter().map(|slot| slot.budget_misses).sum();
+        let restarts: u32 = self
+            .stats
+            .slots
+            .iter()
+            .map(|slot| slot.restarts.total_restarts())
+            .sum();
+        let (done, e2e_misses) = (self.stats.frames_completed, self.stats.end_to_end_misses);
+        self.status.update(force, || {
+            format!(
+                "frame {done}/{frames} | sim {sim_s:.1} s | slowest {slowest} | budget misses {misses} (end-to-end {e2e_misses}) | restarts {restarts}"
+            )
+        });
+    }
+
+    /// Asks every process to stop, waits for the grace period, then kills what is left.
+    pub fn shutdown(&mut self) {
+        self.status.finish();
+        for (slot_index, publisher) in self.step_publishers.iter_mut().enumerate() {
+            if self.stats.slots[slot_index].child.is_some() {
+                let _ = publisher.send_with(|tick| {
+                    tick.command = FrameCommand::Shutdown.code();
+                    tick.mode = ClockMode::Lockstep.code();
+                });
+            }
+        }
+        let grace = Duration::from_secs_f64(self.config.run.shutdown_timeout_s);
+        if !self.wait_for_exits(grace) {
+            for slot in &mut self.stats.slots {
+                if let Some(child) = slot.child.as_ref() {
+                    eprintln!(
+                        "{} did not stop within {:.1} s; sending SIGTERM",
+                        slot.name,
+                        grace.as_secs_f64()
+                    );
+                    child.terminate();
+                }
+            }
+            if !self.wait_for_exits(Duration::from_secs(1)) {
+                for slot in &mut self.stats.slots {
+                    if let Some(child) = slot.child.as_mut() {
+                        eprintln!("{} ignored SIGTERM; killing it", slot.name);
+                        child.kill();
+                    }
+                }
+                self.wait_for_exits(Duration::from_secs(5));
+            }
+        }
+        for slot in &mut self.stats.slots {
+            if !matches!(slot.phase, Phase::Stopped) {
+                slot.phase = Phase::Stopped;
+            }
+        }
+    }
+
+    fn wait_for_exits(&mut self, limit: Duration) -> bool {
+        let deadline = Instant::now() + limit;
+        loop {
+            for slot in &mut self.stats.slots {
+                if slot
+                    .child
+                    .as_mut()
+                    .and_then(ChildProcess::try_reap)
+                    .is_some()
+                {
+                    slot.child = None;
+                }
+            }
+            if self.stats.slots.iter().all(|slot| slot.child.is_none()) {
+                return true;
+            }
+            if Instant::now() >= deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+}

@@ -1,0 +1,196 @@
+//! `hopnav launch`: set up a run, start the graph, run the frame loop, tear down, report.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use hopnav_config::HopnavConfig;
+use hopnav_ipc::IpcService;
+use hopnav_ipc::messages::{FrameTick, Heartbeat};
+use hopnav_ipc::namespace::{self, Namespace};
+use hopnav_ipc::topics;
+use hopnav_ipc::transport::{Publisher, Subscriber};
+use hopnav_metrics::LatencySummary;
+use iceoryx2::prelude::WaitSetBuilder;
+
+use crate::LaunchError;
+use crate::frame_loop::{FrameLoop, LoopEnd};
+use crate::report::RunReport;
+use crate::restart::RestartTracker;
+use crate::slot::Slot;
+use crate::status_line::StatusLine;
+
+/// What to launch and how.
+#[derive(Debug, Clone)]
+pub struct LaunchOptions {
+    /// The validated configuration (CLI overrides already applied).
+    pub config: HopnavConfig,
+    /// The hopnav executable children are started from.
+    pub executable: PathBuf,
+    /// Process names this executable can run.
+    pub known_processes: Vec<String>,
+    /// Run id to use instead of a fresh one (tests, tooling).
+    pub run_id: Option<String>,
+    /// Print the live status line.
+    pub show_status: bool,
+}
+
+/// A launch that ran its frame loop.
+#[derive(Debug, Clone)]
+pub struct LaunchOutcome {
+    /// The report (also written to `run_dir/report.json`).
+    pub report: RunReport,
+    /// The run folder.
+    pub run_dir: PathBuf,
+    /// True when every requested frame completed and nothing stopped the launch.
+    pub success: bool,
+}
+
+/// Runs a launch to its end. Setup failures are errors; anything after the graph started
+/// ends in a report (with the outcome saying why it stopped).
+pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
+    let config = &options.config;
+    let enabled: Vec<(String, hopnav_config::ProcessConfig)> = config
+        .processes
+        .iter()
+        .filter(|(_, process)| process.enabled)
+        .map(|(name, process)| (name.clone(), process.clone()))
+        .collect();
+    for (name, _) in &enabled {
+        if !options.known_processes.contains(name) {
+            return Err(LaunchError::UnknownProcess {
+                name: name.clone(),
+                known: options.known_processes.join(", "),
+            });
+        }
+    }
+
+    let stale = namespace::cleanup_dead_runs();
+    if !stale.dead_runs.is_empty() {
+        eprintln!(
+            "cleaned up {} dead earlier launch(es): {} stale node(s), {} file(s)",
+            stale.dead_runs.len(),
+            stale.removed_nodes,
+            stale.removed_files
+        );
+    }
+
+    let run_id = options.run_id.clone().unwrap_or_else(namespace::new_run_id);
+    let run_dir = Path::new(&config.run.out_dir).join(&run_id);
+    std::fs::create_dir_all(&run_dir).map_err(|source| LaunchError::RunDir {
+        path: run_dir.clone(),
+        source,
+    })?;
+    let config_path = run_dir.join("config.toml");
+    std::fs::write(&config_path, hopnav_config::to_toml(config)?).map_err(|source| {
+        LaunchError::RunDir {
+            path: config_path.clone(),
+            source,
+        }
+    })?;
+    let config_path = std::fs::canonicalize(&config_path).unwrap_or(config_path);
+
+    let namespace = Namespace::new(&run_id)?;
+    let frames = config.run.frames as usize;
+    let slots: Vec<Slot> = enabled
+        .into_iter()
+        .map(|(name, process)| {
+            let tracker = RestartTracker::new(process.restart, &config.restart);
+            Slot::new(name, process, tracker, frames)
+        })
+        .collect();
+
+    eprintln!(
+        "launch {run_id}: {} processes, {} frames at {} Hz{}, run folder {}",
+        slots.len(),
+        config.run.frames,
+        config.run.frame_rate_hz,
+        if config.run.lockstep {
+            " (lockstep)"
+        } else {
+            ""
+        },
+        run_dir.display()
+    );
+
+    let loop_started = Instant::now();
+    let (frame_loop, end) = {
+        let node = namespace.create_node("supervisor")?;
+        let heartbeats = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT)?;
+        let step_publishers = slots
+            .iter()
+            .map(|slot| Publisher::<FrameTick>::open(&node, &topics::step(&slot.name)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let waitset = WaitSetBuilder::new()
+            .create::<IpcService>()
+            .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
+        let _guard = waitset
+            .attach_notification(heartbeats.listener())
+            .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
+        let mut frame_loop = FrameLoop::new(
+            config.clone(),
+            slots,
+            step_publishers,
+            namespace.clone(),
+            options.executable.clone(),
+            config_path,
+            StatusLine::new(options.show_status),
+        );
+        let end = match frame_loop.start_all(&heartbeats, &waitset) {
+            Ok(()) => frame_loop.run(&heartbeats, &waitset),
+            Err(error) => {
+                frame_loop.shutdown();
+                return Err(error);
+            }
+        };
+        frame_loop.shutdown();
+        // Ports die with the loop here, before the namespace clean-up below.
+        (frame_loop.into_stats(), end)
+    };
+    let wall_time_s = loop_started.elapsed().as_secs_f64();
+    // Give the kernel a moment to let the last unmaps settle, then remove what iceoryx2
+    // keeps per namespace once every node of the run is gone.
+    std::thread::sleep(Duration::from_millis(20));
+    namespace.remove_files_if_unused();
+    let leftover_files = namespace.leftover_files().len();
+
+    let success = matches!(end, LoopEnd::Completed);
+    let outcome = match &end {
+        LoopEnd::Completed => "completed".to_owned(),
+        LoopEnd::Interrupted => "interrupted".to_owned(),
+        LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
+    };
+    let mut end_to_end = frame_loop.end_to_end_ns.clone();
+    let report = RunReport {
+        run_id: run_id.clone(),
+        mode: if config.run.lockstep {
+            "lockstep"
+        } else {
+            "real-time"
+        }
+        .to_owned(),
+        outcome,
+        frames_requested: config.run.frames,
+        frames_completed: frame_loop.frames_completed,
+        frames_degraded: frame_loop.frames_degraded,
+        frames_abandoned: frame_loop.frames_abandoned,
+        frame_period_ms: config.run.frame_period_s() * 1e3,
+        wall_time_s,
+        end_to_end_latency: LatencySummary::from_ns(&mut end_to_end),
+        end_to_end_misses: frame_loop.end_to_end_misses,
+        processes: frame_loop.slots.iter().map(Slot::report).collect(),
+        stale_runs_cleaned: stale.dead_runs,
+        leftover_files,
+        config: serde_json::to_value(config).unwrap_or(serde_json::Value::Null),
+    };
+    report
+        .write_json(&run_dir)
+        .map_err(|source| LaunchError::RunDir {
+            path: run_dir.join("report.json"),
+            source,
+        })?;
+    Ok(LaunchOutcome {
+        report,
+        run_dir,
+        success,
+    })
+}

@@ -1,0 +1,20 @@
+//! The hopnav supervisor: spawns the process graph by re-executing the hopnav binary, drives
+//! the 10 fps frame clock (wall clock or lockstep), checks budgets from heartbeats, restarts
+//! what fails, and writes a report.
+//!
+//! The pure parts, [`restart`] and [`scheduler`], are tested without processes; the system
+//! tests in the workspace's `tests/` launch the real binary.
+#![warn(missing_docs)]
+
+mod child;
+mod error;
+mod frame_loop;
+mod launch;
+pub mod report;
+pub mod restart;
+pub mod scheduler;
+mod slot;
+mod status_line;
+
+pub use error::LaunchError;
+pub use launch::{LaunchOptions, LaunchOutcome, launch};

@@ -1,0 +1,76 @@
+//! Killing the supervisor leaves no child alive and the next launch starts clean; a polite
+//! SIGTERM stops the launch with a report.
+
+mod common;
+
+use std::time::Duration;
+
+use common::*;
+
+#[test]
+fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
+    let (out, run) = (out_dir("sigkill"), run_id("sigkill"));
+    let mut supervisor = launch_command(&out, &run, &["--frames", "100000"])
+        .spawn()
+        .expect("spawn launch");
+    let children = || pids_with_args(&["run", &run]);
+    assert!(
+        wait_until(Duration::from_secs(20), || children().len() == 2),
+        "children never started"
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(
+        !leftover_files(&run).is_empty(),
+        "the run uses shared memory"
+    );
+    supervisor.kill().expect("SIGKILL supervisor");
+    let _ = supervisor.wait();
+    assert!(
+        wait_until(Duration::from_secs(5), || children().is_empty()),
+        "orphans left: {:?}",
+        children()
+    );
+
+    let next = run_id("after-sigkill");
+    let output = launch(&out, &next, &["--lockstep", "--frames", "5"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("cleaned up"), "{stderr}");
+    let report = report(&out, &next);
+    assert!(
+        report["stale_runs_cleaned"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|id| id == &serde_json::Value::String(run.clone())),
+        "{report:#}"
+    );
+    assert!(
+        leftover_files(&run).is_empty(),
+        "{:?}",
+        leftover_files(&run)
+    );
+}
+
+#[test]
+fn sigterm_stops_the_launch_cleanly_with_a_report() {
+    let (out, run) = (out_dir("sigterm"), run_id("sigterm"));
+    let mut supervisor = launch_command(&out, &run, &["--frames", "100000"])
+        .spawn()
+        .expect("spawn launch");
+    let children = || pids_with_args(&["run", &run]);
+    assert!(wait_until(Duration::from_secs(20), || children().len() == 2));
+    std::thread::sleep(Duration::from_millis(500));
+    signal(supervisor.id() as i32, libc::SIGTERM);
+    let status = wait_with_limit(&mut supervisor, Duration::from_secs(30)).expect("stopped");
+    assert_eq!(status.code(), Some(130));
+    let report = report(&out, &run);
+    assert_eq!(report["outcome"], "interrupted");
+    assert!(report["frames_completed"].as_u64().unwrap() >= 1);
+    assert!(children().is_empty());
+    assert!(
+        leftover_files(&run).is_empty(),
+        "{:?}",
+        leftover_files(&run)
+    );
+}

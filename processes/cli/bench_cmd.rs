@@ -1,12 +1,124 @@
-//! `hopnav bench …`: benchmarks with their own harness.
+//! `hopnav bench …`: benchmarks with their own harness (p50/p99/max, ratios to baselines
+//! measured in the same run).
 
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
 
-use clap::Subcommand;
+use clap::{Args, Subcommand};
+use hopnav_ipc_bench::{BenchOptions, PeerArgs, Role, Transport, run_bench, run_peer};
 
 #[derive(Debug, Subcommand)]
-pub enum BenchCommand {}
+pub enum BenchCommand {
+    /// One-way latency of 64 B … 4 MiB messages between two processes: hopnav topics,
+    /// raw iceoryx2 (event-driven and busy-polling) and bincode over a Unix socket.
+    Ipc(IpcArgs),
+    /// One peer of `bench ipc` (started by it; not for direct use).
+    #[command(hide = true)]
+    IpcPeer(IpcPeerArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct IpcArgs {
+    /// Fewer messages per point (300 instead of 3000): a minute instead of several.
+    #[arg(long)]
+    quick: bool,
+    /// Measured messages per transport and size (overrides --quick).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(10..=1_000_000))]
+    samples: Option<u64>,
+    /// Folder for ipc_latency.csv, .json and .svg.
+    #[arg(long, default_value = "runs/bench")]
+    out: PathBuf,
+    /// Pause between messages in microseconds, so the receiver is asleep when a message
+    /// comes (what an event-driven 10 fps pipeline sees).
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(0..=1_000_000))]
+    gap_us: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct IpcPeerArgs {
+    /// pub or sub.
+    role: String,
+    /// Transport name.
+    transport: String,
+    /// Payload bytes.
+    size_bytes: usize,
+    #[arg(long)]
+    samples: usize,
+    #[arg(long)]
+    warmup: usize,
+    #[arg(long)]
+    id: String,
+    #[arg(long)]
+    socket: PathBuf,
+    #[arg(long)]
+    gap_us: u64,
+}
 
 pub fn run(command: BenchCommand) -> ExitCode {
-    match command {}
+    match command {
+        BenchCommand::Ipc(args) => ipc(args),
+        BenchCommand::IpcPeer(args) => ipc_peer(args),
+    }
+}
+
+fn ipc(args: IpcArgs) -> ExitCode {
+    let executable = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(error) => {
+            eprintln!("error: cannot find the hopnav executable: {error}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let samples = args
+        .samples
+        .map(|samples| samples as usize)
+        .unwrap_or(if args.quick { 300 } else { 3000 });
+    let options = BenchOptions {
+        executable,
+        samples,
+        warmup: (samples / 10).clamp(10, 200),
+        gap: Duration::from_micros(args.gap_us),
+        transports: Transport::ALL.to_vec(),
+        out_dir: args.out,
+    };
+    match run_bench(&options) {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("\nerror: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn ipc_peer(args: IpcPeerArgs) -> ExitCode {
+    let role = match args.role.as_str() {
+        "pub" => Role::Publisher,
+        "sub" => Role::Subscriber,
+        other => {
+            eprintln!("error: role must be pub or sub, got {other:?}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+    };
+    let Some(transport) = Transport::from_name(&args.transport) else {
+        eprintln!("error: unknown transport {:?}", args.transport);
+        return ExitCode::from(crate::EXIT_CONFIG);
+    };
+    let peer = PeerArgs {
+        role,
+        transport,
+        size_bytes: args.size_bytes.max(1),
+        samples: args.samples,
+        warmup: args.warmup,
+        id: args.id,
+        socket_path: args.socket,
+        gap: Duration::from_micros(args.gap_us),
+    };
+    match run_peer(&peer) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
+    }
 }

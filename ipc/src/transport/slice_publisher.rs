@@ -15,6 +15,13 @@ use crate::stamp::monotonic_now_ns;
 use crate::topics::TopicSpec;
 use crate::validate::SliceHeader;
 
+/// A loaned, not yet written slice sample.
+type UninitSlice<H> = iceoryx2::sample_mut_uninit::SampleMutUninit<
+    IpcService,
+    [MaybeUninit<<H as SliceHeader>::Element>],
+    H,
+>;
+
 /// Publishes `[H::Element]` slices with header `H`. Memory is allocated once, statically, for
 /// the largest slice the port was opened for: no growth, no reallocation on the hot path.
 #[derive(Debug)]
@@ -117,13 +124,7 @@ where
         self.next_sequence = last_sequence.saturating_add(1);
     }
 
-    fn loan(
-        &self,
-        len: usize,
-    ) -> Result<
-        iceoryx2::sample_mut_uninit::SampleMutUninit<IpcService, [MaybeUninit<H::Element>], H>,
-        SendError,
-    > {
+    fn loan(&self, len: usize) -> Result<UninitSlice<H>, SendError> {
         if len > self.max_len {
             return Err(SendError::SliceTooLong {
                 topic: self.topic.clone(),

@@ -53,8 +53,8 @@ impl ChildProcess {
             .arg("--heartbeat-ms")
             .arg(spec.heartbeat_period_ms.to_string())
             .stdin(Stdio::null());
-        // SAFETY: pid of this process, read before fork; only passed by value to the child.
-        let parent_pid = unsafe { libc::getpid() };
+        // Read before fork; the child compares it with getppid() after arming PDEATHSIG.
+        let parent_pid = std::process::id() as libc::pid_t;
         // SAFETY: the closure runs in the forked child before exec and calls only
         // async-signal-safe functions (prctl, getppid, _exit); it touches no allocator or lock.
         unsafe {

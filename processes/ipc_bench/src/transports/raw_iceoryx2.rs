@@ -1,0 +1,143 @@
+//! (b) iceoryx2 with no hopnav layer: the floors. Event-driven (WaitSet on a listener) or
+//! busy-polling `receive`.
+
+use std::time::{Duration, Instant};
+
+use hopnav_ipc::IpcService;
+use hopnav_ipc::messages::ImageHeader;
+use hopnav_ipc::namespace::Namespace;
+use hopnav_ipc::stamp::monotonic_now_ns;
+use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, WaitSetBuilder};
+
+use super::{AckListener, AckNotifier, SampleTiming};
+use crate::BenchError;
+use crate::peer::{PeerArgs, bench_header, pause, payload_byte, signal_ready};
+
+fn service_name(id: &str) -> Result<ServiceName, BenchError> {
+    ServiceName::new(&format!("raw/bench/{id}/data")).map_err(|e| BenchError::transport("name", e))
+}
+
+pub(crate) fn publish(args: &PeerArgs, notify: bool) -> Result<(), BenchError> {
+    let namespace = Namespace::new(&args.id).map_err(|e| BenchError::transport("namespace", e))?;
+    let node = namespace
+        .create_node("raw_pub")
+        .map_err(|e| BenchError::transport("node", e))?;
+    let name = service_name(&args.id)?;
+    let service = node
+        .service_builder(&name)
+        .publish_subscribe::<[u8]>()
+        .user_header::<ImageHeader>()
+        .open_or_create()
+        .map_err(|e| BenchError::transport("service", e))?;
+    let publisher = service
+        .publisher_builder()
+        .initial_max_slice_len(args.size_bytes)
+        .allocation_strategy(AllocationStrategy::Static)
+        .create()
+        .map_err(|e| BenchError::transport("publisher", e))?;
+    let events = node
+        .service_builder(&name)
+        .event()
+        .open_or_create()
+        .map_err(|e| BenchError::transport("event service", e))?;
+    let notifier = events
+        .notifier_builder()
+        .create()
+        .map_err(|e| BenchError::transport("notifier", e))?;
+    let ack = AckListener::open(&node, &args.id)?;
+    for index in 0..args.total_messages() {
+        let fill_started_ns = monotonic_now_ns();
+        let sample = publisher
+            .loan_slice_uninit(args.size_bytes)
+            .map_err(|e| BenchError::transport("loan", e))?;
+        let mut sample = sample.write_from_fn(|byte| payload_byte(index, byte));
+        let header = sample.user_header_mut();
+        *header = bench_header(args.size_bytes, index);
+        header.fill_time_ns = monotonic_now_ns().saturating_sub(fill_started_ns);
+        header.stamp.publish_stamp_ns = monotonic_now_ns();
+        sample
+            .send()
+            .map_err(|e| BenchError::transport("send", e))?;
+        if notify {
+            notifier
+                .notify()
+                .map_err(|e| BenchError::transport("notify", e))?;
+        }
+        ack.wait(Duration::from_secs(10))?;
+        pause(args);
+    }
+    Ok(())
+}
+
+pub(crate) fn subscribe(args: &PeerArgs, poll: bool) -> Result<Vec<SampleTiming>, BenchError> {
+    let namespace = Namespace::new(&args.id).map_err(|e| BenchError::transport("namespace", e))?;
+    let node = namespace
+        .create_node("raw_sub")
+        .map_err(|e| BenchError::transport("node", e))?;
+    let name = service_name(&args.id)?;
+    let service = node
+        .service_builder(&name)
+        .publish_subscribe::<[u8]>()
+        .user_header::<ImageHeader>()
+        .open_or_create()
+        .map_err(|e| BenchError::transport("service", e))?;
+    let subscriber = service
+        .subscriber_builder()
+        .create()
+        .map_err(|e| BenchError::transport("subscriber", e))?;
+    let events = node
+        .service_builder(&name)
+        .event()
+        .open_or_create()
+        .map_err(|e| BenchError::transport("event service", e))?;
+    let listener = events
+        .listener_builder()
+        .create()
+        .map_err(|e| BenchError::transport("listener", e))?;
+    let ack = AckNotifier::open(&node, &args.id)?;
+    let waitset = WaitSetBuilder::new()
+        .create::<IpcService>()
+        .map_err(|e| BenchError::transport("waitset", e))?;
+    let _guard = waitset
+        .attach_notification(&listener)
+        .map_err(|e| BenchError::transport("attach", e))?;
+    signal_ready();
+    let mut timings = Vec::with_capacity(args.total_messages());
+    let mut last_progress = Instant::now();
+    while timings.len() < args.total_messages() {
+        if !poll {
+            waitset
+                .wait_and_process_once_with_timeout(
+                    |_| CallbackProgression::Continue,
+                    Duration::from_secs(10),
+                )
+                .map_err(|e| BenchError::transport("wait", e))?;
+            let _ = listener.try_wait(|_| {});
+        }
+        match subscriber
+            .receive()
+            .map_err(|e| BenchError::transport("receive", e))?
+        {
+            Some(sample) => {
+                let received_ns = monotonic_now_ns();
+                let header = sample.user_header();
+                timings.push(SampleTiming {
+                    fill_ns: header.fill_time_ns,
+                    transport_ns: received_ns.saturating_sub(header.stamp.publish_stamp_ns),
+                });
+                crate::peer::check_payload(header.stamp.frame_index, sample.payload())?;
+                drop(sample);
+                ack.ack()?;
+                last_progress = Instant::now();
+            }
+            None if poll => {
+                std::hint::spin_loop();
+                if last_progress.elapsed() > Duration::from_secs(10) {
+                    return Err(BenchError::Transport("no sample for 10 s".into()));
+                }
+            }
+            None => {}
+        }
+    }
+    Ok(timings)
+}

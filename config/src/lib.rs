@@ -20,8 +20,8 @@ use std::path::Path;
 
 pub use error::ConfigError;
 pub use schema::{
-    HopnavConfig, ProbeConfig, ProcessConfig, RestartConfig, RestartPolicy, RunConfig,
-    WatchdogConfig,
+    HopnavConfig, ProbeConfig, ProcessConfig, RecorderConfig, RestartConfig, RestartPolicy,
+    RunConfig, WatchdogConfig,
 };
 
 /// The embedded default configuration.

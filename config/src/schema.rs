@@ -18,6 +18,8 @@ pub struct HopnavConfig {
     pub processes: BTreeMap<String, ProcessConfig>,
     /// The latency probe graph.
     pub probe: ProbeConfig,
+    /// The dataset recorder (`--export-dataset`).
+    pub recorder: RecorderConfig,
 }
 
 /// Frame clock and launch length.
@@ -106,4 +108,12 @@ pub struct ProbeConfig {
     pub width_px: u32,
     /// Height of the probe image, pixels.
     pub height_px: u32,
+}
+
+/// The dataset recorder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecorderConfig {
+    /// Output folder; required when `processes.recorder.enabled`.
+    pub dir: String,
 }

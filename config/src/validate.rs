@@ -94,6 +94,18 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
             60_000.0,
         )?;
     }
+    let recorder_enabled = config
+        .processes
+        .get("recorder")
+        .is_some_and(|process| process.enabled);
+    if recorder_enabled && config.recorder.dir.trim().is_empty() {
+        return Err(ConfigError::OutOfRange {
+            key: "recorder.dir".into(),
+            value: "\"\"".into(),
+            allowed: "a folder path when processes.recorder.enabled (or use --export-dataset DIR)"
+                .into(),
+        });
+    }
     check("probe.width_px", config.probe.width_px, 1, 8192)?;
     check("probe.height_px", config.probe.height_px, 1, 8192)?;
     Ok(())
@@ -111,7 +123,7 @@ mod tests {
     fn defaults_are_valid() {
         let config = load(None).expect("defaults");
         assert_eq!(config.run.frame_rate_hz, 10.0);
-        assert_eq!(config.processes.len(), 2);
+        assert!(config.processes.len() >= 2);
     }
 
     #[test]

@@ -29,6 +29,10 @@ pub struct LaunchArgs {
     /// Use this run id instead of a fresh one ([A-Za-z0-9-], for tooling and tests).
     #[arg(long)]
     run_id: Option<String>,
+    /// Record the camera streams (PGM + CSV index), sensor CSVs, intrinsics and TUM ground
+    /// truth into DIR, for external VO tools (enables the recorder process).
+    #[arg(long, value_name = "DIR")]
+    export_dataset: Option<PathBuf>,
     /// No live status line.
     #[arg(long)]
     quiet: bool,
@@ -56,6 +60,17 @@ pub fn run(args: LaunchArgs) -> ExitCode {
             return ExitCode::from(crate::EXIT_CONFIG);
         }
         config.run.frames = (duration_s * config.run.frame_rate_hz).ceil().max(1.0) as u64;
+    }
+    if let Some(dir) = &args.export_dataset {
+        let Some(recorder) = config.processes.get_mut("recorder") else {
+            eprintln!("error: --export-dataset needs a [processes.recorder] entry in the config");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        };
+        recorder.enabled = true;
+        config.recorder.dir = std::path::absolute(dir)
+            .unwrap_or_else(|_| dir.clone())
+            .display()
+            .to_string();
     }
     if let Some(out) = &args.out {
         config.run.out_dir = out.display().to_string();

@@ -8,6 +8,7 @@ type Entry = fn(ProcessIdentity) -> Result<LoopExit, LoopError>;
 pub const PROCESSES: &[(&str, Entry)] = &[
     ("probe_source", run_process::<hopnav_probe::ProbeSource>),
     ("probe_sink", run_process::<hopnav_probe::ProbeSink>),
+    ("recorder", run_process::<hopnav_recorder::Recorder>),
 ];
 
 /// The entry point of `name`.

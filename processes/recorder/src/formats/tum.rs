@@ -81,7 +81,7 @@ mod tests {
         let pose = TumPose {
             t_s: 1.5,
             position_m: [1.0, -2.0, 3.25],
-            orientation_xyzw: [0.0, 0.0, 0.707106781, 0.707106781],
+            orientation_xyzw: [0.0, 0.0, 0.6, 0.8],
         };
         let mut bytes = b"# t tx ty tz qx qy qz qw\n".to_vec();
         write_tum_line(&mut bytes, &pose).expect("write");

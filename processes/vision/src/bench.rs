@@ -1,0 +1,339 @@
+//! Own-harness per-frame benchmark (no criterion): pyramid, corners, KLT with the
+//! forward–backward check, and two-view estimation, reported as p50/p99/max.
+//!
+//! The image stages run on two synthetic 320×320 textured frames (the second rotated and
+//! shifted); the geometry stage runs on a synthetic 3-D scene with the same number of
+//! correspondences and 10 % outliers, because an image warp is a homography and would make the
+//! essential-matrix RANSAC degenerate. Target (issue 4): ≤ 5 ms per frame at 320² with 1000
+//! features. Run with `cargo run --release --example bench_vision`.
+//!
+//! ```
+//! use hopnav_vision::bench::{BenchConfig, run_frame_benchmark};
+//! let report = run_frame_benchmark(&BenchConfig { width: 96, height: 96, features: 60, iterations: 2 }).unwrap();
+//! assert!(report.stage("klt").is_some());
+//! println!("{report}");
+//! ```
+
+use crate::camera::PinholeCamera;
+use crate::corners::{Corner, CornerConfig, CornerDetector};
+use crate::image::ImageView;
+use crate::klt::{KltConfig, KltTracker, TrackStatus};
+use crate::pyramid::{Pyramid, PyramidConfig};
+use crate::ransac::{Ransac, RansacConfig};
+use crate::synthetic::{AffineWarp, BlobTexture, TwoViewScene, random_points_in_box};
+use crate::two_view::{EssentialProblem, HomographyProblem, TwoViewConfig, TwoViewEstimator};
+use nalgebra::{Isometry3, Point2, Vector3};
+use std::fmt;
+use std::time::Instant;
+
+/// Benchmark shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BenchConfig {
+    /// Frame width in pixels.
+    pub width: usize,
+    /// Frame height in pixels.
+    pub height: usize,
+    /// Features to detect, track and feed to the geometry stage.
+    pub features: usize,
+    /// Timed repetitions.
+    pub iterations: usize,
+}
+
+impl Default for BenchConfig {
+    fn default() -> Self {
+        Self {
+            width: 320,
+            height: 320,
+            features: 1000,
+            iterations: 100,
+        }
+    }
+}
+
+/// Timing statistics of one stage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageTiming {
+    /// Stage name.
+    pub name: &'static str,
+    /// Median, microseconds.
+    pub p50_us: f64,
+    /// 99th percentile, microseconds.
+    pub p99_us: f64,
+    /// Maximum, microseconds.
+    pub max_us: f64,
+}
+
+/// Result of [`run_frame_benchmark`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchReport {
+    /// The configuration used.
+    pub config: BenchConfig,
+    /// Corners detected in the first frame.
+    pub detected: usize,
+    /// Of those, tracks that passed every check.
+    pub tracked: usize,
+    /// Correspondences given to the geometry stage.
+    pub correspondences: usize,
+    /// Per-stage statistics; `frame` is pyramid + KLT + corners + two-view;
+    /// `essential_ransac` and `homography_ransac` time the two RANSAC runs inside two-view alone.
+    pub stages: Vec<StageTiming>,
+}
+
+impl BenchReport {
+    /// Statistics of a stage by name.
+    pub fn stage(&self, name: &str) -> Option<&StageTiming> {
+        self.stages.iter().find(|s| s.name == name)
+    }
+}
+
+impl fmt::Display for BenchReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}x{} px, {} detected, {} tracked, {} correspondences, {} iterations",
+            self.config.width,
+            self.config.height,
+            self.detected,
+            self.tracked,
+            self.correspondences,
+            self.config.iterations
+        )?;
+        writeln!(
+            f,
+            "{:<22} {:>10} {:>10} {:>10}",
+            "stage", "p50 ms", "p99 ms", "max ms"
+        )?;
+        for s in &self.stages {
+            writeln!(
+                f,
+                "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+                s.name,
+                s.p50_us / 1e3,
+                s.p99_us / 1e3,
+                s.max_us / 1e3
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Error of the benchmark setup.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BenchError {
+    /// A component rejected the configuration.
+    #[error("benchmark setup failed: {0}")]
+    Setup(String),
+    /// `iterations` is zero.
+    #[error("iterations must be >= 1")]
+    NoIterations,
+}
+
+fn stats(name: &'static str, samples_us: &mut [f64]) -> StageTiming {
+    samples_us.sort_by(f64::total_cmp);
+    let pick = |q: f64| {
+        if samples_us.is_empty() {
+            return 0.0;
+        }
+        let i = ((samples_us.len() - 1) as f64 * q).round() as usize;
+        samples_us[i.min(samples_us.len() - 1)]
+    };
+    StageTiming {
+        name,
+        p50_us: pick(0.5),
+        p99_us: pick(0.99),
+        max_us: samples_us.last().copied().unwrap_or(0.0),
+    }
+}
+
+fn setup<E: fmt::Display>(e: E) -> BenchError {
+    BenchError::Setup(e.to_string())
+}
+
+/// Runs the per-frame pipeline `config.iterations` times and reports per-stage timings.
+pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchError> {
+    if config.iterations == 0 {
+        return Err(BenchError::NoIterations);
+    }
+    let (w, h) = (config.width, config.height);
+    // Dense texture: about one blob per 25 px².
+    let texture = BlobTexture::random(w, h, (w * h / 25).max(50), 77);
+    let warp = AffineWarp::rotation_about(
+        1.5f64.to_radians(),
+        w as f64 / 2.0,
+        h as f64 / 2.0,
+        2.3,
+        -1.7,
+    );
+    let mut frame1 = vec![0u8; w * h];
+    let mut frame2 = vec![0u8; w * h];
+    texture.render(w, h, &AffineWarp::identity(), &mut frame1);
+    texture.render(w, h, &warp, &mut frame2);
+    let view1 = ImageView::packed(&frame1, w, h).map_err(setup)?;
+    let view2 = ImageView::packed(&frame2, w, h).map_err(setup)?;
+
+    let mut prev = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
+    let mut next = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
+    // 1000 features in 320² need a tighter spacing than the default 6 px.
+    let corner_config = CornerConfig {
+        max_features: config.features,
+        min_distance_px: 5.0,
+        fill_leftover_budget: true,
+        ..CornerConfig::default()
+    };
+    let mut detector = CornerDetector::new(w, h, corner_config).map_err(setup)?;
+    let mut tracker = KltTracker::new(KltConfig::default(), config.features).map_err(setup)?;
+    prev.build(&view1).map_err(setup)?;
+    let mut corners: Vec<Corner> = Vec::with_capacity(config.features);
+    detector
+        .detect(
+            prev.level(0).ok_or_else(|| setup("no level"))?,
+            &[],
+            &mut corners,
+        )
+        .map_err(setup)?;
+    let prev_px: Vec<Point2<f32>> = corners.iter().map(|c| c.position_px).collect();
+    let mut next_px = vec![Point2::origin(); prev_px.len()];
+    let mut status = vec![TrackStatus::Tracked; prev_px.len()];
+    let mut survivors: Vec<Point2<f32>> = Vec::with_capacity(config.features);
+    let mut new_corners: Vec<Corner> = Vec::with_capacity(config.features);
+
+    // Geometry input: a 3-D scene with as many correspondences as features.
+    let camera = PinholeCamera::from_fov(
+        u32::try_from(w).map_err(setup)?,
+        u32::try_from(h).map_err(setup)?,
+        45f64.to_radians(),
+        45f64.to_radians(),
+    )
+    .map_err(setup)?;
+    let motion = Isometry3::new(Vector3::new(-0.5, 0.1, 0.3), Vector3::new(0.01, 0.03, 0.0));
+    let points = random_points_in_box(config.features * 2, 6.0, 5.0, 20.0, 3);
+    let mut scene = TwoViewScene::from_points(&camera, motion, &points, 0.5, 0.1, 4);
+    scene.x1_norm.truncate(config.features);
+    scene.x2_norm.truncate(config.features);
+    let mut two_view = TwoViewEstimator::new(TwoViewConfig::for_camera(&camera), config.features);
+
+    let n = config.iterations;
+    let mut t_pyramid = Vec::with_capacity(n);
+    let mut t_klt = Vec::with_capacity(n);
+    let mut t_corners = Vec::with_capacity(n);
+    let mut t_two_view = Vec::with_capacity(n);
+    let mut t_frame = Vec::with_capacity(n);
+    let mut t_essential = Vec::with_capacity(n);
+    let mut t_homography = Vec::with_capacity(n);
+    let tv = *two_view.config();
+    let ransac_config = RansacConfig {
+        threshold: tv.essential_threshold_px() / tv.focal_px,
+        confidence: tv.confidence,
+        max_iterations: tv.max_iterations,
+        min_iterations: 10,
+        local_optimization_steps: tv.local_optimization_steps,
+        seed: tv.seed,
+    };
+    let mut e_ransac = Ransac::new(ransac_config, config.features);
+    let mut h_ransac = Ransac::new(
+        RansacConfig {
+            threshold: tv.homography_threshold_px() / tv.focal_px,
+            max_iterations: tv.homography_max_iterations,
+            ..ransac_config
+        },
+        config.features,
+    );
+    let e_problem = EssentialProblem {
+        x1: &scene.x1_norm,
+        x2: &scene.x2_norm,
+        solver: tv.solver,
+        refine_iterations: tv.refine_iterations.min(5),
+        cauchy_scale: 2f64.sqrt() * tv.sigma_px / tv.focal_px,
+    };
+    let h_problem = HomographyProblem {
+        x1: &scene.x1_norm,
+        x2: &scene.x2_norm,
+    };
+    let mut tracked = 0;
+    for _ in 0..n {
+        let start = Instant::now();
+        next.build(&view2).map_err(setup)?;
+        let after_pyramid = Instant::now();
+        let track_stats = tracker
+            .track(&prev, &next, &prev_px, &mut next_px, &mut status, false)
+            .map_err(setup)?;
+        tracked = track_stats.tracked;
+        let after_klt = Instant::now();
+        survivors.clear();
+        survivors.extend(
+            next_px
+                .iter()
+                .zip(&status)
+                .filter(|(_, s)| **s == TrackStatus::Tracked)
+                .map(|(p, _)| *p),
+        );
+        detector
+            .detect(
+                next.level(0).ok_or_else(|| setup("no level"))?,
+                &survivors,
+                &mut new_corners,
+            )
+            .map_err(setup)?;
+        let after_corners = Instant::now();
+        // A failed estimate is timed like a successful one.
+        let _ = two_view.estimate(&scene.x1_norm, &scene.x2_norm, None);
+        let end = Instant::now();
+        let us = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e6;
+        t_pyramid.push(us(start, after_pyramid));
+        t_klt.push(us(after_pyramid, after_klt));
+        t_corners.push(us(after_klt, after_corners));
+        t_two_view.push(us(after_corners, end));
+        t_frame.push(us(start, end));
+        let a = Instant::now();
+        let _ = e_ransac.run(&e_problem);
+        let b = Instant::now();
+        let _ = h_ransac.run(&h_problem);
+        let c = Instant::now();
+        t_essential.push(us(a, b));
+        t_homography.push(us(b, c));
+    }
+    Ok(BenchReport {
+        config: *config,
+        detected: prev_px.len(),
+        tracked,
+        correspondences: scene.x1_norm.len(),
+        stages: vec![
+            stats("pyramid", &mut t_pyramid),
+            stats("klt", &mut t_klt),
+            stats("corners", &mut t_corners),
+            stats("two_view", &mut t_two_view),
+            stats("frame", &mut t_frame),
+            stats("essential_ransac", &mut t_essential),
+            stats("homography_ransac", &mut t_homography),
+        ],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_benchmark_runs() {
+        let report = run_frame_benchmark(&BenchConfig {
+            width: 128,
+            height: 128,
+            features: 120,
+            iterations: 2,
+        })
+        .unwrap();
+        assert!(report.detected > 60, "{report}");
+        assert!(
+            report.tracked as f64 > 0.8 * report.detected as f64,
+            "{report}"
+        );
+        assert_eq!(report.stages.len(), 7);
+        assert!(
+            run_frame_benchmark(&BenchConfig {
+                iterations: 0,
+                ..BenchConfig::default()
+            })
+            .is_err()
+        );
+    }
+}

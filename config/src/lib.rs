@@ -51,6 +51,67 @@ pub fn load_file(path: &Path) -> Result<HopnavConfig, ConfigError> {
     load(Some(&text))
 }
 
+/// Parses the process-specific table `[name]` (absent = empty, so the type's serde defaults
+/// apply). A bad key is reported with its full path, e.g. `physics.jumper.launch_speed_mps`.
+pub fn parse_section<T: serde::de::DeserializeOwned>(
+    config: &HopnavConfig,
+    name: &str,
+) -> Result<T, ConfigError> {
+    let table = match config.sections.get(name) {
+        Some(toml::Value::Table(table)) => table.clone(),
+        Some(other) => {
+            return Err(ConfigError::Schema {
+                key: name.to_owned(),
+                message: format!("expected a table, found {}", other.type_str()),
+            });
+        }
+        None => toml::Table::new(),
+    };
+    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|error| {
+        let path = error.path().to_string();
+        ConfigError::Schema {
+            key: if path == "." {
+                name.to_owned()
+            } else {
+                format!("{name}.{path}")
+            },
+            message: error.inner().to_string(),
+        }
+    })
+}
+
+/// Rejects top-level tables that no process library knows (a typo like `[phsyics]`).
+pub fn check_section_names(config: &HopnavConfig, known: &[&str]) -> Result<(), ConfigError> {
+    match config
+        .sections
+        .keys()
+        .find(|name| !known.contains(&name.as_str()))
+    {
+        Some(unknown) => Err(ConfigError::Schema {
+            key: unknown.clone(),
+            message: format!(
+                "unknown config table (known tables: run, watchdog, restart, processes, probe, recorder, {})",
+                known.join(", ")
+            ),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Prefixes the key of a library's own validation error with its section name.
+pub fn in_section(
+    name: &str,
+    key: &str,
+    value: impl std::fmt::Display,
+    allowed: impl std::fmt::Display,
+) -> ConfigError {
+    ConfigError::OutOfRange {
+        key: format!("{name}.{key}"),
+        value: value.to_string(),
+        allowed: allowed.to_string(),
+    }
+}
+
 /// The configuration as TOML (written next to each run's report and read by the children).
 pub fn to_toml(config: &HopnavConfig) -> Result<String, ConfigError> {
     toml::to_string_pretty(config).map_err(|error| ConfigError::Serialize(error.to_string()))

@@ -5,8 +5,12 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 /// The whole configuration of a launch.
+///
+/// The runtime's own tables are typed here. Every other top-level table (`[world]`,
+/// `[physics]`, `[camera]`, …) belongs to one process library and is kept as TOML in
+/// [`Self::sections`]; that library parses it with [`crate::parse_section`], and the launcher
+/// validates every section at start and rejects tables nobody knows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct HopnavConfig {
     /// Frame clock and launch length.
     pub run: RunConfig,
@@ -20,6 +24,9 @@ pub struct HopnavConfig {
     pub probe: ProbeConfig,
     /// The dataset recorder (`--export-dataset`).
     pub recorder: RecorderConfig,
+    /// Process-specific tables, parsed by their own libraries.
+    #[serde(flatten)]
+    pub sections: toml::Table,
 }
 
 /// Frame clock and launch length.

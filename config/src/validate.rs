@@ -145,6 +145,7 @@ mod tests {
     #[test]
     fn unknown_keys_and_wrong_types_name_the_key() {
         let message = error_of("[run]\nframe_rat_hz = 5.0\n");
+        assert!(message.contains("run"), "{message}");
         assert!(message.contains("frame_rat_hz"), "{message}");
         let message = error_of("[run]\nframes = \"many\"\n");
         assert!(message.contains("run.frames"), "{message}");
@@ -153,6 +154,36 @@ mod tests {
             message.contains("processes.probe_sink.restart"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn sections_parse_with_full_key_paths_and_unknown_tables_are_named() {
+        #[derive(serde::Deserialize, Debug, Default)]
+        #[serde(deny_unknown_fields, default)]
+        struct Jumper {
+            launch_speed_mps: f64,
+        }
+        #[derive(serde::Deserialize, Debug, Default)]
+        #[serde(deny_unknown_fields, default)]
+        struct Physics {
+            jumper: Jumper,
+        }
+        let config = load(Some("[physics.jumper]\nlaunch_speed_mps = 9.0\n")).expect("valid");
+        let physics: Physics = crate::parse_section(&config, "physics").expect("parse");
+        assert_eq!(physics.jumper.launch_speed_mps, 9.0);
+        let absent: Physics = crate::parse_section(&config, "nothing").expect("defaults");
+        assert_eq!(absent.jumper.launch_speed_mps, 0.0);
+        let config = load(Some("[physics.jumper]\nlaunch_speed_mps = \"fast\"\n")).expect("loads");
+        let error = crate::parse_section::<Physics>(&config, "physics").expect_err("type");
+        assert!(
+            error
+                .to_string()
+                .contains("physics.jumper.launch_speed_mps"),
+            "{error}"
+        );
+        let config = load(Some("[phsyics]\nx = 1\n")).expect("loads");
+        let error = crate::check_section_names(&config, &["physics"]).expect_err("typo");
+        assert!(error.to_string().contains("phsyics"), "{error}");
     }
 
     #[test]

@@ -50,6 +50,10 @@ pub fn run(args: LaunchArgs) -> ExitCode {
             return ExitCode::from(crate::EXIT_CONFIG);
         }
     };
+    if let Err(error) = registry::check_sections(&config) {
+        eprintln!("error: {error}");
+        return ExitCode::from(crate::EXIT_CONFIG);
+    }
     config.run.lockstep |= args.lockstep;
     if let Some(frames) = args.frames {
         config.run.frames = frames;

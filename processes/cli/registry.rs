@@ -11,6 +11,21 @@ pub const PROCESSES: &[(&str, Entry)] = &[
     ("recorder", run_process::<hopnav_recorder::Recorder>),
 ];
 
+/// A process library's config table and its validator.
+type SectionCheck = fn(&hopnav_config::HopnavConfig) -> Result<(), hopnav_config::ConfigError>;
+
+/// Every process-specific config table, with the check its library provides.
+pub const SECTIONS: &[(&str, SectionCheck)] = &[];
+
+/// Validates every process-specific table; unknown tables are errors.
+pub fn check_sections(
+    config: &hopnav_config::HopnavConfig,
+) -> Result<(), hopnav_config::ConfigError> {
+    let known: Vec<&str> = SECTIONS.iter().map(|(name, _)| *name).collect();
+    hopnav_config::check_section_names(config, &known)?;
+    SECTIONS.iter().try_for_each(|(_, check)| check(config))
+}
+
 /// The entry point of `name`.
 pub fn find(name: &str) -> Option<Entry> {
     PROCESSES

@@ -141,7 +141,7 @@ pub fn run_bench(options: &BenchOptions) -> Result<BenchSummary, BenchError> {
     summary.write_files(&options.out_dir)?;
     let _ = writeln!(
         stdout,
-        "\nwrote {}/ipc_latency.{{csv,json,svg}}",
+        "\nwrote {}/ipc_latency.{{csv,json,svg,png}}",
         options.out_dir.display()
     );
     Ok(summary)

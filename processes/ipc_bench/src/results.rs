@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 
 use hopnav_metrics::LatencySummary;
-use hopnav_metrics::plot::{LinePlot, Scale, Series, write_svg};
+use hopnav_metrics::plot::{LinePlot, Scale, Series, write_png, write_svg};
 use serde::Serialize;
 
 use crate::BenchError;
@@ -121,7 +121,7 @@ impl BenchSummary {
         Ok(())
     }
 
-    /// Writes `ipc_latency.csv`, `ipc_latency.json` and `ipc_latency.svg` into `dir`.
+    /// Writes `ipc_latency.csv`, `.json`, `.svg` and `.png` into `dir`.
     pub fn write_files(&self, dir: &Path) -> Result<(), BenchError> {
         let output_error = |path: &Path, message: String| BenchError::Output {
             path: path.display().to_string(),
@@ -166,19 +166,18 @@ impl BenchSummary {
             })
             .filter(|series| !series.points.is_empty())
             .collect();
+        let plot = LinePlot {
+            title: "one-way transport latency (p50), fill time excluded",
+            x_label: "payload bytes",
+            y_label: "latency µs",
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            series: &series,
+        };
         let svg_path = dir.join("ipc_latency.svg");
-        write_svg(
-            &svg_path,
-            &LinePlot {
-                title: "one-way transport latency (p50), fill time excluded",
-                x_label: "payload bytes",
-                y_label: "latency µs",
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
-                series: &series,
-            },
-        )
-        .map_err(|e| output_error(&svg_path, e.to_string()))?;
+        write_svg(&svg_path, &plot).map_err(|e| output_error(&svg_path, e.to_string()))?;
+        let png_path = dir.join("ipc_latency.png");
+        write_png(&png_path, &plot).map_err(|e| output_error(&png_path, e.to_string()))?;
         Ok(())
     }
 }

@@ -75,17 +75,52 @@ fn range(values: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
     }
 }
 
+/// The font of plot text, vendored so plots need no system font (DejaVu Sans, Bitstream Vera
+/// licence in `assets/DejaVuSans-LICENSE`).
+static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+
+fn register_font() -> Result<(), String> {
+    static REGISTERED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            plotters::style::register_font("sans-serif", FontStyle::Normal, FONT_TTF)
+                .map_err(|_| "the embedded font is not a valid TrueType font".to_owned())
+        })
+        .clone()
+}
+
 /// Draws `plot` into an SVG file at `path`.
 pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
     let error = |message: String| PlotError {
         path: path.display().to_string(),
         message,
     };
+    // Text is laid out with the embedded font's metrics even in SVG.
+    register_font().map_err(error)?;
+    let root = SVGBackend::new(path, (960, 600)).into_drawing_area();
+    draw(root, plot).map_err(error)
+}
+
+/// Draws `plot` into a PNG file at `path`.
+pub fn write_png(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
+    let error = |message: String| PlotError {
+        path: path.display().to_string(),
+        message,
+    };
+    register_font().map_err(error)?;
+    let root = BitMapBackend::new(path, (1200, 750)).into_drawing_area();
+    draw(root, plot).map_err(error)
+}
+
+/// Draws `plot` on any plotters drawing area (SVG, PNG, or a panel of a larger figure).
+pub fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    plot: &LinePlot<'_>,
+) -> Result<(), String> {
     let all_points = || plot.series.iter().flat_map(|series| series.points.iter());
     let x_range = range(all_points().map(|p| p.0), plot.x_scale);
     let y_range = range(all_points().map(|p| p.1), plot.y_scale);
-    let root = SVGBackend::new(path, (960, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
     macro_rules! draw {
         ($x:expr, $y:expr) => {{
             let mut chart = ChartBuilder::on(&root)
@@ -94,13 +129,13 @@ pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
                 .x_label_area_size(48)
                 .y_label_area_size(72)
                 .build_cartesian_2d($x, $y)
-                .map_err(|e| error(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
             chart
                 .configure_mesh()
                 .x_desc(plot.x_label)
                 .y_desc(plot.y_label)
                 .draw()
-                .map_err(|e| error(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
             for (index, series) in plot.series.iter().enumerate() {
                 let color = PALETTE[index % PALETTE.len()];
                 let points: Vec<(f64, f64)> = series
@@ -111,18 +146,20 @@ pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
                     .collect();
                 chart
                     .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
-                    .map_err(|e| error(e.to_string()))?
+                    .map_err(|e| e.to_string())?
                     .label(series.label.clone())
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                     });
-                chart
-                    .draw_series(
-                        points
-                            .into_iter()
-                            .map(|p| Circle::new(p, 3, color.filled())),
-                    )
-                    .map_err(|e| error(e.to_string()))?;
+                if points.len() <= 64 {
+                    chart
+                        .draw_series(
+                            points
+                                .into_iter()
+                                .map(|p| Circle::new(p, 3, color.filled())),
+                        )
+                        .map_err(|e| e.to_string())?;
+                }
             }
             chart
                 .configure_series_labels()
@@ -130,7 +167,7 @@ pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
                 .background_style(WHITE.mix(0.8))
                 .position(SeriesLabelPosition::UpperLeft)
                 .draw()
-                .map_err(|e| error(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
         }};
     }
     match (plot.x_scale, plot.y_scale) {
@@ -148,7 +185,7 @@ pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
         }
         (Scale::Linear, Scale::Linear) => draw!(x_range.0..x_range.1, y_range.0..y_range.1),
     }
-    root.present().map_err(|e| error(e.to_string()))?;
+    root.present().map_err(|e| e.to_string())?;
     Ok(())
 }
 
@@ -179,6 +216,21 @@ mod tests {
         .expect("plot");
         let svg = std::fs::read_to_string(&path).expect("read");
         assert!(svg.contains("<svg") && svg.contains("latency") && svg.contains("transport"));
+        let png_path = dir.join("plot.png");
+        write_png(
+            &png_path,
+            &LinePlot {
+                title: "latency",
+                x_label: "payload bytes",
+                y_label: "p50 ms",
+                x_scale: Scale::Log,
+                y_scale: Scale::Log,
+                series: &series,
+            },
+        )
+        .expect("png");
+        let png = std::fs::read(&png_path).expect("read png");
+        assert_eq!(&png[1..4], b"PNG");
         std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -82,3 +82,21 @@ fn missing_config_file_is_a_clear_error() {
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("/nonexistent/hopnav.toml"));
 }
+
+#[test]
+fn shipped_scenarios_pass_launch_validation() {
+    let out = out_dir("scenarios");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("config/scenarios");
+    for name in ["default", "rocky", "fig6"] {
+        let run = run_id(&format!("scenario-{name}"));
+        let output = launch_command(&out, &run, &["--lockstep", "--frames", "2"])
+            .arg(dir.join(format!("{name}.toml")))
+            .output()
+            .expect("run");
+        assert!(
+            output.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+}

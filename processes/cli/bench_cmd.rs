@@ -13,6 +13,9 @@ pub enum BenchCommand {
     /// One-way latency of 64 B … 4 MiB messages between two processes: hopnav topics,
     /// raw iceoryx2 (event-driven and busy-polling) and bincode over a Unix socket.
     Ipc(IpcArgs),
+    /// Render time of one 320² jumper image of the default world from jumper-like poses
+    /// (0.5–15 m above ground, looking down), on one core.
+    Render(RenderArgs),
     /// One peer of `bench ipc` (started by it; not for direct use).
     #[command(hide = true)]
     IpcPeer(IpcPeerArgs),
@@ -33,6 +36,17 @@ pub struct IpcArgs {
     /// comes (what an event-driven 10 fps pipeline sees).
     #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(0..=1_000_000))]
     gap_us: u64,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Frames timed.
+    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    frames: u64,
+    /// Renders per pose; the fastest counts (filters out preemption on a loaded machine).
+    /// 1 = plain per-frame timing.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100))]
+    best_of: u64,
 }
 
 #[derive(Debug, Args)]
@@ -59,6 +73,29 @@ pub fn run(command: BenchCommand) -> ExitCode {
     match command {
         BenchCommand::Ipc(args) => ipc(args),
         BenchCommand::IpcPeer(args) => ipc_peer(args),
+        BenchCommand::Render(args) => render(args),
+    }
+}
+
+fn render(args: RenderArgs) -> ExitCode {
+    let options = hopnav_world::bench::RenderBenchOptions {
+        frames: args.frames as usize,
+        repeats_per_pose: args.best_of as usize,
+        ..Default::default()
+    };
+    eprintln!(
+        "rendering {} frames of 320x320 (best of {} per pose) …",
+        options.frames, options.repeats_per_pose
+    );
+    match hopnav_world::bench::render_bench(&options) {
+        Ok(report) => {
+            println!("{report}");
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
     }
 }
 

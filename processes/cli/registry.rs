@@ -9,13 +9,21 @@ pub const PROCESSES: &[(&str, Entry)] = &[
     ("probe_source", run_process::<hopnav_probe::ProbeSource>),
     ("probe_sink", run_process::<hopnav_probe::ProbeSink>),
     ("recorder", run_process::<hopnav_recorder::Recorder>),
+    ("camera", run_process::<hopnav_camera::CameraProcess>),
 ];
 
 /// A process library's config table and its validator.
 type SectionCheck = fn(&hopnav_config::HopnavConfig) -> Result<(), hopnav_config::ConfigError>;
 
 /// Every process-specific config table, with the check its library provides.
-pub const SECTIONS: &[(&str, SectionCheck)] = &[];
+pub const SECTIONS: &[(&str, SectionCheck)] = &[
+    ("world", |config| {
+        hopnav_camera::check_world_section(config).map(|_| ())
+    }),
+    ("camera", |config| {
+        hopnav_camera::CameraSection::from_config(config).map(|_| ())
+    }),
+];
 
 /// Validates every process-specific table; unknown tables are errors.
 pub fn check_sections(

@@ -1,0 +1,64 @@
+//! Error types: one small enum per fallible operation, every variant documented.
+
+use thiserror::Error;
+
+/// A configuration value was rejected by `validate()`.
+///
+/// The message always names the full key, e.g.
+/// `terrain.spacing_m must be in (0, 1], got 2`.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ConfigError {
+    /// A value lies outside its allowed range.
+    #[error("{key} must be in {range}, got {value}")]
+    OutOfRange {
+        /// Full dotted key, e.g. `rocks.golombek_k`.
+        key: String,
+        /// Allowed range in interval notation, e.g. `(0, 1]`.
+        range: String,
+        /// The rejected value as written.
+        value: String,
+    },
+    /// A value contradicts another value (e.g. a minimum above its maximum).
+    #[error("{key} {reason}")]
+    Inconsistent {
+        /// Full dotted key of the offending value.
+        key: String,
+        /// What is wrong, phrased to follow the key.
+        reason: String,
+    },
+}
+
+/// Building a [`World`](crate::World) or a [`RenderScene`](crate::raster::RenderScene) failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum WorldError {
+    /// The configuration did not validate.
+    #[error("invalid world config: {0}")]
+    InvalidConfig(#[from] ConfigError),
+}
+
+/// Rendering one image failed; the output buffer is left in an unspecified but valid state.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum RenderError {
+    /// The row stride is smaller than the image width.
+    #[error("stride {stride_bytes} bytes is smaller than the image width {width_px} px")]
+    StrideTooSmall {
+        /// Stride passed by the caller.
+        stride_bytes: usize,
+        /// Image width of the renderer.
+        width_px: usize,
+    },
+    /// The output slice cannot hold the image at the given stride.
+    #[error("output buffer holds {got_bytes} bytes, the image needs {needed_bytes}")]
+    BufferTooSmall {
+        /// Bytes needed: `stride · (height − 1) + width`.
+        needed_bytes: usize,
+        /// Bytes passed.
+        got_bytes: usize,
+    },
+    /// The camera pose contains NaN or infinite numbers.
+    #[error("camera pose is not finite")]
+    NonFinitePose,
+    /// The camera configuration did not validate.
+    #[error("invalid camera config: {0}")]
+    InvalidCamera(#[from] ConfigError),
+}

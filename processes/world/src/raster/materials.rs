@@ -1,0 +1,282 @@
+//! Materials (per-triangle mip selection) and shaders (per-pixel value) of terrain, rocks and
+//! flat markers.
+
+use super::tri::{Block, Material, Setup, Shader, Target, mip_level, shade_block_generic};
+use crate::texture::{MipTexture, TextureLevel};
+
+/// The detail tile only matters while the atlas is magnified (atlas texels larger than a
+/// pixel, i.e. closer than ~5 m); beyond this detail level it is skipped.
+const DETAIL_MAX_LEVEL: usize = 1;
+
+/// Terrain: baked atlas (shading included), optionally times the detail tile.
+pub(crate) struct TerrainMaterial<'a> {
+    pub atlas: &'a MipTexture,
+    pub detail: Option<(&'a MipTexture, [f32; 2])>,
+}
+
+struct AtlasShader<'a> {
+    a: &'a TextureLevel,
+}
+
+impl Shader for AtlasShader<'_> {
+    #[inline(always)]
+    fn shade(&self, u: f32, v: f32, _s: f32) -> u8 {
+        self.a.sample_clamp(u * self.a.scale_u, v * self.a.scale_v) as u8
+    }
+
+    #[inline(always)]
+    fn shade_block(&self, zb: &mut [f32], ob: &mut [u8], b: &Block) {
+        let Some(mut c) = ClampRamp::new(self.a, b, zb.len()) else {
+            return shade_block_generic(self, zb, ob, b);
+        };
+        let mut iz = b.iz;
+        for (zp, op) in zb.iter_mut().zip(ob.iter_mut()) {
+            if iz > *zp {
+                *zp = iz;
+                *op = c.sample() as u8;
+            }
+            iz += b.diz;
+            c.step();
+        }
+    }
+}
+
+/// Fixed-point (16.16) texture coordinates stepping along a block, for a clamped level whose
+/// block stays inside the texture (so no clamping per pixel).
+struct ClampRamp<'a> {
+    data: &'a [u8],
+    w: usize,
+    u: i32,
+    v: i32,
+    du: i32,
+    dv: i32,
+}
+
+impl<'a> ClampRamp<'a> {
+    #[inline(always)]
+    fn new(l: &'a TextureLevel, b: &Block, n: usize) -> Option<Self> {
+        let u0 = b.u * l.scale_u - 0.5;
+        let v0 = b.v * l.scale_v - 0.5;
+        let du = b.du * l.scale_u;
+        let dv = b.dv * l.scale_v;
+        let last = n.saturating_sub(1) as f32;
+        let (u1, v1) = (u0 + du * last, v0 + dv * last);
+        let (lim_u, lim_v) = (l.lim_u, l.lim_v);
+        let inside =
+            u0.min(u1) >= 0.0 && u0.max(u1) <= lim_u && v0.min(v1) >= 0.0 && v0.max(v1) <= lim_v;
+        inside.then(|| Self {
+            data: &l.data,
+            w: l.width,
+            u: (u0 * 65536.0) as i32,
+            v: (v0 * 65536.0) as i32,
+            du: (du * 65536.0) as i32,
+            dv: (dv * 65536.0) as i32,
+        })
+    }
+
+    #[inline(always)]
+    fn step(&mut self) {
+        self.u += self.du;
+        self.v += self.dv;
+    }
+
+    /// Bilinear sample, 0..=255.
+    #[inline(always)]
+    fn sample(&self) -> u32 {
+        let i = (self.v >> 16) as usize * self.w + (self.u >> 16) as usize;
+        bilerp_fixed(self.data, i, i + self.w, self.u, self.v)
+    }
+}
+
+/// Bilinear blend of texels `[i0, i0+1]` (row 0) and `[i1, i1+1]` (row 1) with the fractions in
+/// bits 8..16 of the fixed-point coordinates; out-of-range indices give 0 instead of panicking.
+#[inline(always)]
+fn bilerp_fixed(d: &[u8], i0: usize, i1: usize, u: i32, v: i32) -> u32 {
+    let (Some(r0), Some(r1)) = (d.get(i0..i0 + 2), d.get(i1..i1 + 2)) else {
+        return 0;
+    };
+    let fx = ((u >> 8) & 0xff) as u32;
+    let fy = ((v >> 8) & 0xff) as u32;
+    let top = u32::from(r0[0]) * (256 - fx) + u32::from(r0[1]) * fx;
+    let bot = u32::from(r1[0]) * (256 - fx) + u32::from(r1[1]) * fx;
+    (top * (256 - fy) + bot * fy) >> 16
+}
+
+/// Fixed-point coordinates on a wrapping power-of-two level.
+struct WrapRamp<'a> {
+    data: &'a [u8],
+    w: usize,
+    mx: usize,
+    my: usize,
+    u: i32,
+    v: i32,
+    du: i32,
+    dv: i32,
+}
+
+impl<'a> WrapRamp<'a> {
+    #[inline(always)]
+    fn new(l: &'a TextureLevel, u: f32, v: f32, du: f32, dv: f32) -> Self {
+        // Reduce to one period so the fixed-point values cannot overflow.
+        let (wf, hf) = (l.width as f32, l.height as f32);
+        let u0 = u - 0.5;
+        let v0 = v - 0.5;
+        let u0 = u0 - crate::texture::fast_floor(u0 / wf) as f32 * wf;
+        let v0 = v0 - crate::texture::fast_floor(v0 / hf) as f32 * hf;
+        let lim = 4096.0; // keep |step| · 16 px far below 2^15 texels
+        Self {
+            data: &l.data,
+            w: l.width,
+            mx: l.width - 1,
+            my: l.height - 1,
+            u: (u0 * 65536.0) as i32,
+            v: (v0 * 65536.0) as i32,
+            du: (du.clamp(-lim, lim) * 65536.0) as i32,
+            dv: (dv.clamp(-lim, lim) * 65536.0) as i32,
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self) {
+        self.u = self.u.wrapping_add(self.du);
+        self.v = self.v.wrapping_add(self.dv);
+    }
+
+    #[inline(always)]
+    fn sample(&self) -> u32 {
+        let x0 = (self.u >> 16) as usize & self.mx;
+        let y0 = (self.v >> 16) as usize & self.my;
+        let x1 = (x0 + 1) & self.mx;
+        let y1 = (y0 + 1) & self.my;
+        let d = self.data;
+        let (r0, r1) = (y0 * self.w, y1 * self.w);
+        let px = |i: usize| u32::from(d.get(i).copied().unwrap_or(0));
+        let fx = ((self.u >> 8) & 0xff) as u32;
+        let fy = ((self.v >> 8) & 0xff) as u32;
+        let top = px(r0 + x0) * (256 - fx) + px(r0 + x1) * fx;
+        let bot = px(r1 + x0) * (256 - fx) + px(r1 + x1) * fx;
+        (top * (256 - fy) + bot * fy) >> 16
+    }
+}
+
+struct AtlasDetailShader<'a> {
+    a: &'a TextureLevel,
+    d: &'a TextureLevel,
+    du: f32,
+    dv: f32,
+}
+
+impl Shader for AtlasDetailShader<'_> {
+    #[inline(always)]
+    fn shade(&self, u: f32, v: f32, _s: f32) -> u8 {
+        let a = self.a.sample_clamp(u * self.a.scale_u, v * self.a.scale_v);
+        let d = self.d.sample_wrap(u * self.du, v * self.dv);
+        (a * d * (1.0 / 128.0)).min(255.0) as u8
+    }
+
+    #[inline(always)]
+    fn shade_block(&self, zb: &mut [f32], ob: &mut [u8], b: &Block) {
+        let Some(mut c) = ClampRamp::new(self.a, b, zb.len()) else {
+            return shade_block_generic(self, zb, ob, b);
+        };
+        let mut d = WrapRamp::new(
+            self.d,
+            b.u * self.du,
+            b.v * self.dv,
+            b.du * self.du,
+            b.dv * self.dv,
+        );
+        let mut iz = b.iz;
+        for (zp, op) in zb.iter_mut().zip(ob.iter_mut()) {
+            if iz > *zp {
+                *zp = iz;
+                *op = ((c.sample() * d.sample()) >> 7).min(255) as u8;
+            }
+            iz += b.diz;
+            c.step();
+            d.step();
+        }
+    }
+}
+
+impl Material for TerrainMaterial<'_> {
+    #[inline(always)]
+    fn draw(&self, t: &mut Target<'_>, s: &Setup, uv_area: f32) {
+        let screen_area = 0.5 * s.area2;
+        let a = self.atlas.level(mip_level(uv_area, screen_area));
+        if let Some((detail, per_atlas)) = self.detail {
+            let ld = mip_level(uv_area * per_atlas[0] * per_atlas[1], screen_area);
+            if ld <= DETAIL_MAX_LEVEL {
+                let d = detail.level(ld);
+                let shader = AtlasDetailShader {
+                    a,
+                    d,
+                    du: per_atlas[0] * d.scale_u,
+                    dv: per_atlas[1] * d.scale_v,
+                };
+                s.fill(t, &shader);
+                return;
+            }
+        }
+        s.fill(t, &AtlasShader { a });
+    }
+}
+
+/// Rocks: wrapping rock tile times the per-vertex brightness `s` (albedo × shading / 128).
+pub(crate) struct RockMaterial<'a> {
+    pub tex: &'a MipTexture,
+}
+
+struct RockShader<'a> {
+    l: &'a TextureLevel,
+}
+
+impl Shader for RockShader<'_> {
+    #[inline(always)]
+    fn shade(&self, u: f32, v: f32, s: f32) -> u8 {
+        (self.l.sample_wrap(u * self.l.scale_u, v * self.l.scale_v) * s).clamp(0.0, 255.0) as u8
+    }
+
+    #[inline(always)]
+    fn shade_block(&self, zb: &mut [f32], ob: &mut [u8], b: &Block) {
+        let (su, sv) = (self.l.scale_u, self.l.scale_v);
+        let mut t = WrapRamp::new(self.l, b.u * su, b.v * sv, b.du * su, b.dv * sv);
+        // Brightness in 8.8 fixed point.
+        let mut s = (b.s.clamp(0.0, 64.0) * 256.0) as i32;
+        let ds = (b.ds.clamp(-64.0, 64.0) * 256.0) as i32;
+        let mut iz = b.iz;
+        for (zp, op) in zb.iter_mut().zip(ob.iter_mut()) {
+            if iz > *zp {
+                *zp = iz;
+                *op = ((t.sample() * s.max(0) as u32) >> 8).min(255) as u8;
+            }
+            iz += b.diz;
+            t.step();
+            s += ds;
+        }
+    }
+}
+
+impl Material for RockMaterial<'_> {
+    #[inline(always)]
+    fn draw(&self, t: &mut Target<'_>, s: &Setup, uv_area: f32) {
+        let l = self.tex.level(mip_level(uv_area, 0.5 * s.area2));
+        s.fill(t, &RockShader { l });
+    }
+}
+
+/// A constant value (markers).
+pub(crate) struct FlatMaterial(pub u8);
+
+impl Shader for FlatMaterial {
+    #[inline(always)]
+    fn shade(&self, _u: f32, _v: f32, _s: f32) -> u8 {
+        self.0
+    }
+}
+
+impl Material for FlatMaterial {
+    fn draw(&self, t: &mut Target<'_>, s: &Setup, _uv_area: f32) {
+        s.fill(t, self);
+    }
+}

@@ -1,0 +1,35 @@
+//! Fresh craters: depth ≈ 0.2 × diameter, raised rim.
+
+use hopnav_world::{World, WorldConfig};
+
+#[test]
+fn crater_depth_is_a_fifth_of_the_diameter() {
+    let mut cfg = WorldConfig::default();
+    cfg.terrain.size_x_m = 20.0;
+    cfg.terrain.size_y_m = 20.0;
+    cfg.terrain.spacing_m = 0.05;
+    cfg.terrain.relief_amplitude_m = 0.0;
+    cfg.rocks.golombek_k = 0.0;
+    cfg.texture.texel_m = 0.05;
+    cfg.craters.count = 1;
+    cfg.craters.diameter_min_m = 6.0;
+    cfg.craters.diameter_max_m = 6.0;
+    let w = World::generate(&cfg).unwrap();
+    let c = w.craters()[0];
+    assert!((c.diameter_m - 6.0).abs() < 1e-9);
+    let (lo, hi) = w.terrain().height_range_m();
+    let depth = hi - lo; // rim crest to floor on otherwise flat ground
+    assert!(
+        (depth / c.diameter_m - 0.2).abs() < 0.2 * 0.03,
+        "depth {depth}"
+    );
+    assert!(hi > 0.2 && (hi - 0.04 * 6.0).abs() < 0.01, "rim {hi}");
+    let floor = w.ground_height_at(c.center_m[0], c.center_m[1]);
+    assert!((floor - lo).abs() < 1e-3);
+    // Far from the crater the ground is untouched.
+    let far = w.ground_height_at(
+        c.center_m[0] + 9.5_f64.copysign(-c.center_m[0]),
+        c.center_m[1],
+    );
+    assert!(far.abs() < 1e-9);
+}

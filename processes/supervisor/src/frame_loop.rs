@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::IpcService;
-use hopnav_ipc::messages::{ClockMode, FrameCommand, FrameTick, Heartbeat, ProcessState};
+use hopnav_ipc::messages::{
+    BodyStates, ClockMode, FrameCommand, FrameTick, Heartbeat, ProcessState,
+};
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::stamp::monotonic_now_ns;
 use hopnav_ipc::transport::{Publisher, Subscriber};
@@ -62,6 +64,9 @@ pub struct FrameLoop {
     executable: PathBuf,
     config_path: PathBuf,
     status: StatusLine,
+    /// Ground truth for the status line only (which robot is where); never for control.
+    truth: Option<Subscriber<BodyStates>>,
+    last_truth: Option<BodyStates>,
     period: Duration,
     started: Instant,
     next_frame: u64,
@@ -74,6 +79,7 @@ impl FrameLoop {
         config: HopnavConfig,
         slots: Vec<Slot>,
         step_publishers: Vec<Publisher<FrameTick>>,
+        truth: Option<Subscriber<BodyStates>>,
         namespace: Namespace,
         executable: PathBuf,
         config_path: PathBuf,
@@ -98,6 +104,8 @@ impl FrameLoop {
             executable,
             config_path,
             status,
+            truth,
+            last_truth: None,
             period,
             started: Instant::now(),
             next_frame: 0,
@@ -472,9 +480,28 @@ impl FrameLoop {
             .map(|slot| slot.restarts.total_restarts())
             .sum();
         let (done, e2e_misses) = (self.stats.frames_completed, self.stats.end_to_end_misses);
+        if let Some(truth) = &self.truth
+            && let Ok(Some(latest)) = truth.receive_latest()
+        {
+            self.last_truth = Some(latest);
+        }
+        let robots = self.last_truth.map(|states| {
+            let jumper = states.jumper.world_from_body.position_m;
+            let rover = states.rover.world_from_body.position_m;
+            format!(
+                " | jumper ({:.1}, {:.1}) z {:.2} m {} | rover ({:.1}, {:.1})",
+                jumper[0],
+                jumper[1],
+                jumper[2],
+                if states.jumper.in_contact == 0 { "in flight" } else { "on ground" },
+                rover[0],
+                rover[1]
+            )
+        });
         self.status.update(force, || {
             format!(
-                "frame {done}/{frames} | sim {sim_s:.1} s | slowest {slowest} | budget misses {misses} (end-to-end {e2e_misses}) | restarts {restarts}"
+                "frame {done}/{frames} | sim {sim_s:.1} s | slowest {slowest} | budget misses {misses} (end-to-end {e2e_misses}) | restarts {restarts}{}",
+                robots.unwrap_or_default()
             )
         });
     }

@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::IpcService;
-use hopnav_ipc::messages::{FrameTick, Heartbeat};
+use hopnav_ipc::messages::{BodyStates, FrameTick, Heartbeat};
 use hopnav_ipc::namespace::{self, Namespace};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
@@ -126,10 +126,13 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         let _guard = waitset
             .attach_notification(heartbeats.listener())
             .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
+        // A small buffer: the status line only wants the newest state.
+        let truth = Subscriber::<BodyStates>::open(&node, &topics::BODY_STATES).ok();
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
             step_publishers,
+            truth,
             namespace.clone(),
             options.executable.clone(),
             config_path,

@@ -7,7 +7,11 @@ use common::*;
 #[test]
 fn lockstep_probe_launch_completes_every_frame_and_reports() {
     let (out, run) = (out_dir("probe"), run_id("probe"));
-    let output = launch(&out, &run, &["--lockstep", "--frames", "60"]);
+    let output = launch(
+        &out,
+        &run,
+        &[&probe_config(), "--lockstep", "--frames", "60"],
+    );
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
@@ -58,7 +62,11 @@ fn lockstep_runs_are_reproducible() {
         .iter()
         .map(|name| {
             let run = run_id(name);
-            let output = launch(&out, &run, &["--lockstep", "--frames", "30"]);
+            let output = launch(
+                &out,
+                &run,
+                &[&probe_config(), "--lockstep", "--frames", "30"],
+            );
             assert!(output.status.success());
             let report = report(&out, &run);
             (

@@ -11,9 +11,13 @@ fn two_concurrent_launches_do_not_interfere() {
     let children: Vec<_> = runs
         .iter()
         .map(|run| {
-            launch_command(&out, run, &["--lockstep", "--frames", "400"])
-                .spawn()
-                .expect("spawn")
+            launch_command(
+                &out,
+                run,
+                &[&probe_config(), "--lockstep", "--frames", "400"],
+            )
+            .spawn()
+            .expect("spawn")
         })
         .collect();
     for (run, child) in runs.iter().zip(children) {

@@ -10,9 +10,13 @@ use common::*;
 fn killed_child_is_restarted_and_the_launch_completes() {
     let (out, run) = (out_dir("restart"), run_id("restart"));
     // Lockstep, long enough that the kill lands mid-run even on a fast machine.
-    let mut child = launch_command(&out, &run, &["--lockstep", "--frames", "3000"])
-        .spawn()
-        .expect("spawn launch");
+    let mut child = launch_command(
+        &out,
+        &run,
+        &[&probe_config(), "--lockstep", "--frames", "3000"],
+    )
+    .spawn()
+    .expect("spawn launch");
     let sink = || pids_with_args(&["run", "probe_sink", &run]);
     assert!(
         wait_until(Duration::from_secs(20), || !sink().is_empty()),

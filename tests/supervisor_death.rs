@@ -10,7 +10,7 @@ use common::*;
 #[test]
 fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
     let (out, run) = (out_dir("sigkill"), run_id("sigkill"));
-    let mut supervisor = launch_command(&out, &run, &["--frames", "100000"])
+    let mut supervisor = launch_command(&out, &run, &[&probe_config(), "--frames", "100000"])
         .spawn()
         .expect("spawn launch");
     let children = || pids_with_args(&["run", &run]);
@@ -32,7 +32,11 @@ fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
     );
 
     let next = run_id("after-sigkill");
-    let output = launch(&out, &next, &["--lockstep", "--frames", "5"]);
+    let output = launch(
+        &out,
+        &next,
+        &[&probe_config(), "--lockstep", "--frames", "5"],
+    );
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("cleaned up"), "{stderr}");
@@ -55,7 +59,7 @@ fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
 #[test]
 fn sigterm_stops_the_launch_cleanly_with_a_report() {
     let (out, run) = (out_dir("sigterm"), run_id("sigterm"));
-    let mut supervisor = launch_command(&out, &run, &["--frames", "100000"])
+    let mut supervisor = launch_command(&out, &run, &[&probe_config(), "--frames", "100000"])
         .spawn()
         .expect("spawn launch");
     let children = || pids_with_args(&["run", &run]);

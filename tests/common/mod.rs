@@ -10,6 +10,14 @@ pub fn hopnav() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hopnav"))
 }
 
+/// The probe-graph config (no world): what runtime tests launch unless they bring their own.
+pub fn probe_config() -> String {
+    format!(
+        "{}/tests/fixtures/config/probe.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
 /// A run id unique to this test process and `test`.
 pub fn run_id(test: &str) -> String {
     format!("t{}-{test}", std::process::id())

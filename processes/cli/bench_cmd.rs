@@ -16,6 +16,9 @@ pub enum BenchCommand {
     /// Render time of one 320² jumper image of the default world from jumper-like poses
     /// (0.5–15 m above ground, looking down), on one core.
     Render(RenderArgs),
+    /// Physics step time per 100 ms frame (10 substeps) on the default world with its rocks,
+    /// the jumper hopping and the rover driving.
+    Physics(PhysicsArgs),
     /// One peer of `bench ipc` (started by it; not for direct use).
     #[command(hide = true)]
     IpcPeer(IpcPeerArgs),
@@ -50,6 +53,13 @@ pub struct RenderArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct PhysicsArgs {
+    /// Frames timed.
+    #[arg(long, default_value_t = 2000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    frames: u32,
+}
+
+#[derive(Debug, Args)]
 pub struct IpcPeerArgs {
     /// pub or sub.
     role: String,
@@ -74,6 +84,25 @@ pub fn run(command: BenchCommand) -> ExitCode {
         BenchCommand::Ipc(args) => ipc(args),
         BenchCommand::IpcPeer(args) => ipc_peer(args),
         BenchCommand::Render(args) => render(args),
+        BenchCommand::Physics(args) => physics(args),
+    }
+}
+
+fn physics(args: PhysicsArgs) -> ExitCode {
+    let options = hopnav_physics::bench::PhysicsBenchConfig {
+        frames: args.frames,
+        ..Default::default()
+    };
+    eprintln!("stepping {} frames of the default world …", options.frames);
+    match hopnav_physics::bench::run_physics_bench(&options) {
+        Ok(report) => {
+            println!("{report}");
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
     }
 }
 

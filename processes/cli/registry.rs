@@ -10,6 +10,7 @@ pub const PROCESSES: &[(&str, Entry)] = &[
     ("probe_sink", run_process::<hopnav_probe::ProbeSink>),
     ("recorder", run_process::<hopnav_recorder::Recorder>),
     ("camera", run_process::<hopnav_camera::CameraProcess>),
+    ("physics", run_process::<hopnav_physics::PhysicsProcess>),
 ];
 
 /// A process library's config table and its validator.
@@ -22,6 +23,9 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
     }),
     ("camera", |config| {
         hopnav_camera::CameraSection::from_config(config).map(|_| ())
+    }),
+    ("physics", |config| {
+        hopnav_physics::physics_section(config).map(|_| ())
     }),
 ];
 

@@ -24,7 +24,7 @@ pub struct CameraSection {
     /// Jumper camera intrinsics (paper: 320×320, FOV 45° → f = 386.3 px, not the paper's
     /// 521.78 px, which does not match its own FOV).
     pub jumper: CameraConfig,
-    /// Jumper camera mount: at the rear, facing backward.
+    /// Jumper camera mount: at the rear, facing backward (along body −x).
     pub jumper_mount: MountConfig,
     /// Rover stereo intrinsics (both views).
     pub rover: CameraConfig,
@@ -40,10 +40,13 @@ impl Default for CameraSection {
     fn default() -> Self {
         Self {
             jumper: CameraConfig::default(),
+            // Physics sets the jumper to its launch attitude (body x along the launch
+            // direction, 60° up), so a camera along body −x looks 60° below the horizon,
+            // backward, at launch and tilts up as the body pitches nose-down in flight.
             jumper_mount: MountConfig {
                 position_m: [-0.12, 0.0, 0.0],
                 yaw_rad: std::f64::consts::PI,
-                pitch_down_rad: 30_f64.to_radians(),
+                pitch_down_rad: 0.0,
             },
             rover: CameraConfig {
                 width_px: 320,

@@ -1,0 +1,106 @@
+//! Seeded, deterministic noise: xoshiro256** seeded through SplitMix64, Gaussian samples by
+//! Box–Muller. No global state and no OS entropy, so the same seed gives the same samples.
+//!
+//! ```
+//! use hopnav_physics::noise::NoiseRng;
+//! let mut a = NoiseRng::new(7, 1);
+//! let mut b = NoiseRng::new(7, 1);
+//! assert_eq!(a.gaussian().to_bits(), b.gaussian().to_bits());
+//! ```
+
+/// SplitMix64 finaliser: a well-mixing 64-bit hash of one word.
+#[inline]
+pub fn mix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A xoshiro256** generator with a cached second Box–Muller sample.
+#[derive(Debug, Clone)]
+pub struct NoiseRng {
+    s: [u64; 4],
+    spare: Option<f64>,
+}
+
+impl NoiseRng {
+    /// A generator for `seed` and an independent `stream` number (one per sensor).
+    pub fn new(seed: u64, stream: u64) -> Self {
+        let mut x = mix64(seed ^ mix64(stream.wrapping_add(0x5851_F42D_4C95_7F2D)));
+        let mut s = [0u64; 4];
+        for word in &mut s {
+            x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            *word = mix64(x);
+        }
+        if s == [0; 4] {
+            s[0] = 1;
+        }
+        Self { s, spare: None }
+    }
+
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        let result = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
+        let t = self.s[1] << 17;
+        self.s[2] ^= self.s[0];
+        self.s[3] ^= self.s[1];
+        self.s[1] ^= self.s[2];
+        self.s[0] ^= self.s[3];
+        self.s[2] ^= t;
+        self.s[3] = self.s[3].rotate_left(45);
+        result
+    }
+
+    /// Uniform in `[0, 1)` with 53 random bits.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Standard normal sample (Box–Muller; the second value of each pair is cached).
+    pub fn gaussian(&mut self) -> f64 {
+        if let Some(z) = self.spare.take() {
+            return z;
+        }
+        // u1 in (0, 1] so ln(u1) is finite.
+        let u1 = 1.0 - self.uniform();
+        let u2 = self.uniform();
+        let r = (-2.0 * u1.ln()).sqrt();
+        let (s, c) = (std::f64::consts::TAU * u2).sin_cos();
+        self.spare = Some(r * s);
+        r * c
+    }
+
+    /// Normal sample with standard deviation `sigma` (0 → exactly 0, no draw skipped).
+    pub fn normal(&mut self, sigma: f64) -> f64 {
+        sigma * self.gaussian()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gaussian_moments() {
+        let mut rng = NoiseRng::new(3, 9);
+        let n = 200_000;
+        let (mut sum, mut sum2) = (0.0, 0.0);
+        for _ in 0..n {
+            let z = rng.gaussian();
+            sum += z;
+            sum2 += z * z;
+        }
+        let mean = sum / n as f64;
+        let var = sum2 / n as f64 - mean * mean;
+        assert!(mean.abs() < 0.01, "mean {mean}");
+        assert!((var - 1.0).abs() < 0.02, "var {var}");
+    }
+
+    #[test]
+    fn streams_differ() {
+        let mut a = NoiseRng::new(3, 1);
+        let mut b = NoiseRng::new(3, 2);
+        assert_ne!(a.next_u64(), b.next_u64());
+    }
+}

@@ -1,0 +1,49 @@
+//! Shared test fixtures.
+#![allow(dead_code)]
+
+use hopnav_physics::{DriveCommand, FrameInputs, FrameOutputs, PhysicsConfig, PhysicsSim};
+use hopnav_world::config::ExplicitRockConfig;
+use hopnav_world::{World, WorldConfig};
+
+/// A flat world of `size_x × size_y` metres at 0.25 m, without craters or random rocks.
+pub fn flat_world(size_x_m: f64, size_y_m: f64, rocks: &[ExplicitRockConfig]) -> World {
+    let mut cfg = WorldConfig::default();
+    cfg.terrain.size_x_m = size_x_m;
+    cfg.terrain.size_y_m = size_y_m;
+    cfg.terrain.relief_amplitude_m = 0.0;
+    cfg.craters.count = 0;
+    cfg.rocks.golombek_k = 0.0;
+    cfg.rocks.explicit = rocks.to_vec();
+    World::generate(&cfg).expect("valid world")
+}
+
+/// Default physics with the jumper at `jumper_xy` and the rover at `rover_xy`.
+pub fn physics(jumper_xy: [f64; 2], rover_xy: [f64; 2]) -> PhysicsConfig {
+    let mut cfg = PhysicsConfig::default();
+    cfg.jumper.start_xy_m = jumper_xy;
+    cfg.rover.start_xy_m = rover_xy;
+    cfg
+}
+
+/// Steps `frames` frames with the same inputs every frame; returns all outputs.
+pub fn run(sim: &mut PhysicsSim, frames: usize, inputs: FrameInputs) -> Vec<FrameOutputs> {
+    (0..frames).map(|_| sim.step_frame(&inputs)).collect()
+}
+
+/// Inputs that only drive the rover.
+pub fn drive(waypoint_xy_m: [f64; 2], speed_mps: f64) -> FrameInputs {
+    FrameInputs {
+        drive: Some(DriveCommand {
+            waypoint_xy_m,
+            speed_mps,
+            hold: false,
+        }),
+        hop_request: None,
+    }
+}
+
+/// Yaw of a `[x, y, z, w]` quaternion, radians.
+pub fn yaw_of(q: [f64; 4]) -> f64 {
+    let [x, y, z, w] = q;
+    (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z))
+}

@@ -1,0 +1,170 @@
+//! Rover: waypoint following, turning on the spot, blocking rocks and climbable rocks.
+
+mod common;
+
+use common::{drive, flat_world, physics, run, yaw_of};
+use hopnav_physics::{BlockReason, PhysicsConfig, PhysicsSim, RoverMode};
+use hopnav_world::config::ExplicitRockConfig;
+
+fn rover_cfg(rover_xy: [f64; 2]) -> PhysicsConfig {
+    let mut cfg = physics([-10.0, 6.0], rover_xy);
+    cfg.jumper.initial_hop = false;
+    cfg
+}
+
+fn rock(x: f64, y: f64, diameter_m: f64, height_m: f64) -> ExplicitRockConfig {
+    ExplicitRockConfig {
+        center_m: [x, y],
+        diameter_m,
+        height_m: Some(height_m),
+    }
+}
+
+#[test]
+fn drives_to_waypoint_ten_metres_away() {
+    let world = flat_world(32.0, 16.0, &[]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let tol = cfg.rover.arrive_tolerance_m;
+    for goal in [[5.0, -3.0], [1.0, 5.0]] {
+        let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+        let outs = run(&mut sim, 400, drive(goal, 0.5));
+        let last = outs.last().unwrap();
+        let p = last.rover.position_m;
+        let miss = (p[0] - goal[0]).hypot(p[1] - goal[1]);
+        let arrived_at = outs
+            .iter()
+            .position(|o| o.rover_status.mode == RoverMode::Arrived);
+        eprintln!("goal {goal:?}: miss {miss:.3} m, arrived at frame {arrived_at:?}");
+        assert_eq!(last.rover_status.mode, RoverMode::Arrived);
+        assert!(miss <= tol + 0.02, "missed by {miss}");
+        assert_eq!(last.rover_status.collision_count, 0);
+        assert!(
+            last.rover
+                .linear_velocity_mps
+                .iter()
+                .all(|v| v.abs() < 1e-9)
+        );
+    }
+}
+
+#[test]
+fn turns_on_the_spot() {
+    let world = flat_world(32.0, 16.0, &[]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let start = sim.rover_state().position_m;
+    // Waypoint straight to the left: heading error 90°.
+    let inputs = drive([-5.0, 5.0], 0.5);
+    let mut turned = None;
+    for _ in 0..200 {
+        let out = sim.step_frame(&inputs);
+        if out.rover_status.mode == RoverMode::Driving {
+            break;
+        }
+        turned = Some(out);
+    }
+    let out = turned.expect("turned first");
+    assert_eq!(out.rover_status.mode, RoverMode::Turning);
+    let yaw = yaw_of(out.rover.orientation_xyzw);
+    let p = out.rover.position_m;
+    let moved = (p[0] - start[0]).hypot(p[1] - start[1]);
+    eprintln!("yaw {:.2}°, translation {moved:.4} m", yaw.to_degrees());
+    assert!(
+        (yaw.to_degrees() - 90.0).abs() < 3.0,
+        "yaw {}",
+        yaw.to_degrees()
+    );
+    assert!(moved < 0.2, "moved {moved}");
+    // Spinning wheels are steered tangentially (±atan(wheelbase/track)).
+    let expect = (0.4f64).atan2(0.35);
+    for a in out.rover_status.steer_angles_rad {
+        assert!((a.abs() - expect).abs() < 0.06, "steer {a}");
+    }
+}
+
+#[test]
+fn tall_rock_blocks_and_counts_a_collision() {
+    // 0.5 m tall boulder on the path (max climbable 0.2 m).
+    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0, 1.0, 0.5)]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let outs = run(&mut sim, 300, drive([5.0, -3.0], 0.5));
+    let last = outs.last().unwrap();
+    eprintln!(
+        "stopped at x = {:.3}, status {:?}",
+        last.rover.position_m[0], last.rover_status
+    );
+    assert_eq!(last.rover_status.blocked, Some(BlockReason::Rock));
+    assert_eq!(last.rover_status.collision_count, 1, "one contact episode");
+    // Front of the footprint (wheelbase/2 + wheel radius = 0.55 m) stops at the rock's edge.
+    let front = last.rover.position_m[0] + 0.55;
+    let rock_edge = -world.rocks()[0].bounding_radius_m();
+    assert!(
+        front < rock_edge + 0.1 && front > rock_edge - 0.3,
+        "front {front} edge {rock_edge}"
+    );
+    assert!(outs.iter().all(|o| o.rover.position_m[0] < -0.5));
+}
+
+#[test]
+fn small_rock_is_climbed() {
+    // 0.12 m pebble under the left wheels' path.
+    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0 + 0.35, 0.3, 0.12)]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let outs = run(&mut sim, 400, drive([5.0, -3.0], 0.5));
+    let last = outs.last().unwrap();
+    let base_z = outs[0].rover.position_m[2];
+    let max_z = outs
+        .iter()
+        .map(|o| o.rover.position_m[2])
+        .fold(f64::MIN, f64::max);
+    let max_roll = outs
+        .iter()
+        .map(|o| {
+            let [x, y, z, w] = o.rover.orientation_xyzw;
+            (2.0 * (w * x + y * z))
+                .atan2(1.0 - 2.0 * (x * x + y * y))
+                .abs()
+        })
+        .fold(0.0, f64::max);
+    eprintln!(
+        "rose {:.3} m, max roll {:.2}°",
+        max_z - base_z,
+        max_roll.to_degrees()
+    );
+    assert_eq!(last.rover_status.mode, RoverMode::Arrived);
+    assert_eq!(last.rover_status.collision_count, 0);
+    assert!(
+        max_z - base_z > 0.02 && max_roll > 0.05,
+        "the rover rode over the rock"
+    );
+}
+
+#[test]
+fn hold_stops_the_rover() {
+    let world = flat_world(32.0, 16.0, &[]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let _ = run(&mut sim, 40, drive([5.0, -3.0], 0.5));
+    let mut hold = drive([5.0, -3.0], 0.5);
+    if let Some(d) = hold.drive.as_mut() {
+        d.hold = true;
+    }
+    let outs = run(&mut sim, 30, hold);
+    let last = outs.last().unwrap();
+    assert_eq!(last.rover_status.mode, RoverMode::Holding);
+    assert_eq!(last.rover.linear_velocity_mps, [0.0; 3]);
+    // Decelerating from 0.5 m/s at 0.5 m/s² takes 1 s: it then stays put.
+    assert_eq!(outs[20].rover.position_m, last.rover.position_m);
+}
+
+#[test]
+fn non_finite_commands_are_rejected() {
+    let world = flat_world(32.0, 16.0, &[]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let out = sim.step_frame(&drive([f64::NAN, 0.0], 0.5));
+    assert_eq!(out.rejected_inputs, 1);
+    assert_eq!(out.rover_status.mode, RoverMode::Idle);
+}

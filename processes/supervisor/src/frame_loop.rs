@@ -54,6 +54,14 @@ pub struct LoopStats {
     pub end_to_end_misses: u64,
 }
 
+/// The supervisor's ports: one step publisher per slot, and ground truth for the status line.
+pub struct SupervisorPorts {
+    /// Step topic of each slot, in table order.
+    pub step_publishers: Vec<Publisher<FrameTick>>,
+    /// Ground truth for the status line only (which robot is where); never for control.
+    pub truth: Option<Subscriber<BodyStates>>,
+}
+
 /// State of a running launch.
 pub struct FrameLoop {
     config: HopnavConfig,
@@ -78,8 +86,7 @@ impl FrameLoop {
     pub fn new(
         config: HopnavConfig,
         slots: Vec<Slot>,
-        step_publishers: Vec<Publisher<FrameTick>>,
-        truth: Option<Subscriber<BodyStates>>,
+        ports: SupervisorPorts,
         namespace: Namespace,
         executable: PathBuf,
         config_path: PathBuf,
@@ -98,13 +105,13 @@ impl FrameLoop {
                 end_to_end_misses: 0,
             },
             config,
-            step_publishers,
+            step_publishers: ports.step_publishers,
             scheduler,
             namespace,
             executable,
             config_path,
             status,
-            truth,
+            truth: ports.truth,
             last_truth: None,
             period,
             started: Instant::now(),
@@ -493,7 +500,11 @@ impl FrameLoop {
                 jumper[0],
                 jumper[1],
                 jumper[2],
-                if states.jumper.in_contact == 0 { "in flight" } else { "on ground" },
+                if states.jumper.in_contact == 0 {
+                    "in flight"
+                } else {
+                    "on ground"
+                },
                 rover[0],
                 rover[1]
             )

@@ -13,7 +13,7 @@ use hopnav_metrics::LatencySummary;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
-use crate::frame_loop::{FrameLoop, LoopEnd};
+use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
 use crate::report::RunReport;
 use crate::restart::RestartTracker;
 use crate::slot::Slot;
@@ -131,8 +131,10 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
-            step_publishers,
-            truth,
+            SupervisorPorts {
+                step_publishers,
+                truth,
+            },
             namespace.clone(),
             options.executable.clone(),
             config_path,

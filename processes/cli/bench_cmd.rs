@@ -19,6 +19,9 @@ pub enum BenchCommand {
     /// Physics step time per 100 ms frame (10 substeps) on the default world with its rocks,
     /// the jumper hopping and the rover driving.
     Physics(PhysicsArgs),
+    /// Jumper VO cost per frame (`process_frame`) at 320² with up to 1000 features, over the
+    /// rendered Table 1 hop.
+    Vo(VoBenchArgs),
     /// One peer of `bench ipc` (started by it; not for direct use).
     #[command(hide = true)]
     IpcPeer(IpcPeerArgs),
@@ -60,6 +63,13 @@ pub struct PhysicsArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct VoBenchArgs {
+    /// Times the whole hop is processed.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    repeats: u64,
+}
+
+#[derive(Debug, Args)]
 pub struct IpcPeerArgs {
     /// pub or sub.
     role: String,
@@ -85,6 +95,33 @@ pub fn run(command: BenchCommand) -> ExitCode {
         BenchCommand::IpcPeer(args) => ipc_peer(args),
         BenchCommand::Render(args) => render(args),
         BenchCommand::Physics(args) => physics(args),
+        BenchCommand::Vo(args) => vo(args),
+    }
+}
+
+fn vo(args: VoBenchArgs) -> ExitCode {
+    use hopnav_jumper_vo::simulate::{SimConfig, simulate_hop};
+    eprintln!(
+        "rendering the Table 1 hop, then timing the VO over it {} times …",
+        args.repeats
+    );
+    let hop = match simulate_hop(&SimConfig::default()) {
+        Ok(hop) => hop,
+        Err(error) => {
+            eprintln!("error: {error}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let config = hopnav_jumper_vo::config::JumperVoConfig::default();
+    match hopnav_jumper_vo::bench::bench_hop(&hop, &config, args.repeats as usize) {
+        Ok(cost) => {
+            println!("jumper VO per frame (target <= 5 ms): {cost}");
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 //! every child, so all processes share one build and one message layout.
 
 mod bench_cmd;
+mod eval_cmd;
 mod launch_cmd;
 mod registry;
 mod run_cmd;
@@ -28,6 +29,9 @@ enum Command {
     /// Benchmarks.
     #[command(subcommand)]
     Bench(bench_cmd::BenchCommand),
+    /// Accuracy evaluations against ground truth.
+    #[command(subcommand)]
+    Eval(eval_cmd::EvalCommand),
 }
 
 /// Exit code for a bad configuration or usage, as documented in the README.
@@ -39,5 +43,6 @@ fn main() -> ExitCode {
         Command::Launch(args) => launch_cmd::run(args),
         Command::Run(args) => run_cmd::run(args),
         Command::Bench(command) => bench_cmd::run(command),
+        Command::Eval(command) => eval_cmd::run(command),
     }
 }

@@ -79,7 +79,9 @@ fn range(values: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
 /// licence in `assets/DejaVuSans-LICENSE`).
 static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-fn register_font() -> Result<(), String> {
+/// Registers the embedded font with plotters; call it before drawing text on your own
+/// drawing areas (`write_svg` and `write_png` call it themselves). Idempotent.
+pub fn register_font() -> Result<(), String> {
     static REGISTERED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
     REGISTERED
         .get_or_init(|| {

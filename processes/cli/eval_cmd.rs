@@ -1,0 +1,182 @@
+//! `hopnav eval …`: accuracy evaluations against ground truth.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Subcommand};
+use hopnav_jumper_vo::config::{JumperVoConfig, ScaleMethod};
+use hopnav_jumper_vo::eval::{VoReport, evaluate, plot::write_fig5_png, run_hop, tum::write_tum};
+use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
+
+#[derive(Debug, Subcommand)]
+pub enum EvalCommand {
+    /// Jumper VO on the Table 1 hop (10 m/s at 60°, σ = 1 m altimeter): renders the hop with
+    /// the world renderer along the analytic trajectory for each seed, runs the VO with the
+    /// default scale method and with the paper's eq. (4), and reports ATE (Sim(3) and SE(3)),
+    /// RPE and final error; writes TUM files and a Fig. 5-style PNG.
+    Vo(VoArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct VoArgs {
+    /// Seeds to run (world, altimeter noise and pixel noise differ per seed).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    seeds: u64,
+    /// Folder for TUM files, the PNGs and eval_vo.json.
+    #[arg(long, default_value = "runs/eval-vo")]
+    out: PathBuf,
+}
+
+pub fn run(command: EvalCommand) -> ExitCode {
+    match command {
+        EvalCommand::Vo(args) => match vo(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(error) => {
+                eprintln!("\nerror: {error}");
+                ExitCode::FAILURE
+            }
+        },
+    }
+}
+
+fn hop_for_seed(seed: u64) -> Result<SimulatedHop, String> {
+    let mut config = SimConfig {
+        seed,
+        ..SimConfig::default()
+    };
+    config.world.seed = seed;
+    simulate_hop(&config).map_err(|error| format!("simulating seed {seed}: {error}"))
+}
+
+fn write_outputs(
+    out: &std::path::Path,
+    method: ScaleMethod,
+    hop: &SimulatedHop,
+    run: &hopnav_jumper_vo::eval::HopRun,
+) -> Result<(), String> {
+    let name = out.join(format!("{method:?}").to_lowercase());
+    let estimate: Vec<_> = hop.t_s.iter().copied().zip(run.poses()).collect();
+    let truth: Vec<_> = hop
+        .t_s
+        .iter()
+        .copied()
+        .zip(hop.truth_world_from_body.iter().copied())
+        .collect();
+    let path = |suffix: &str| PathBuf::from(format!("{}{suffix}", name.display()));
+    write_tum(&path("_estimate.tum"), &estimate).map_err(|e| e.to_string())?;
+    write_tum(&path("_truth.tum"), &truth).map_err(|e| e.to_string())?;
+    write_fig5_png(
+        &path("_fig5.png"),
+        &hop.t_s,
+        &hop.truth_world_from_body,
+        &run.poses(),
+    )
+    .map_err(|e| e.to_string())
+}
+
+fn vo(args: &VoArgs) -> Result<(), String> {
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let methods = [ScaleMethod::Ballistic, ScaleMethod::PaperEq4];
+    let mut reports: Vec<(ScaleMethod, u64, VoReport)> = Vec::new();
+    for seed in 1..=args.seeds {
+        eprint!(
+            "\rseed {seed}/{}: rendering the hop …            ",
+            args.seeds
+        );
+        let hop = hop_for_seed(seed)?;
+        for method in methods {
+            eprint!(
+                "\rseed {seed}/{}: VO with {method:?} scale …      ",
+                args.seeds
+            );
+            let config = JumperVoConfig {
+                scale_method: method,
+                ..JumperVoConfig::default()
+            };
+            let run = run_hop(&hop, &config).map_err(|e| e.to_string())?;
+            let report = evaluate(&run.outputs, &hop.truth_world_from_body)
+                .ok_or_else(|| format!("seed {seed}: too few frames to evaluate"))?;
+            if seed == 1 {
+                write_outputs(&args.out, method, &hop, &run)?;
+            }
+            reports.push((method, seed, report));
+        }
+    }
+    eprintln!();
+    println!(
+        "\n{:<10} {:>5} {:>12} {:>12} {:>12} {:>11} {:>10} {:>9}",
+        "scale",
+        "seed",
+        "ATE Sim3 m",
+        "ATE SE3 m",
+        "unaligned m",
+        "RPE m/frm",
+        "final m",
+        "max rot°"
+    );
+    for (method, seed, report) in &reports {
+        println!(
+            "{:<10} {:>5} {:>12.3} {:>12.3} {:>12.3} {:>11.3} {:>10.3} {:>9.2}",
+            format!("{method:?}"),
+            seed,
+            report.ate_sim3_m,
+            report.ate_se3_m,
+            report.rmse_unaligned_m,
+            report.rpe_frame_m,
+            report.final_error_m,
+            report.max_rotation_error_rad.to_degrees()
+        );
+    }
+    println!();
+    let mut summary = serde_json::Map::new();
+    for method in methods {
+        let of_method: Vec<&VoReport> = reports
+            .iter()
+            .filter(|(m, _, _)| *m == method)
+            .map(|(_, _, report)| report)
+            .collect();
+        let mean = |f: fn(&VoReport) -> f64| {
+            of_method.iter().map(|r| f(r)).sum::<f64>() / of_method.len() as f64
+        };
+        let worst = |f: fn(&VoReport) -> f64| of_method.iter().map(|r| f(r)).fold(0.0, f64::max);
+        println!(
+            "{method:?}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
+            mean(|r| r.ate_sim3_m),
+            worst(|r| r.ate_sim3_m),
+            mean(|r| r.ate_se3_m),
+            worst(|r| r.ate_se3_m),
+            if method == ScaleMethod::Ballistic {
+                if worst(|r| r.ate_sim3_m) <= 0.25 {
+                    "  (target <= 0.25 m: met)"
+                } else {
+                    "  (target <= 0.25 m: NOT met)"
+                }
+            } else {
+                "  (the paper's eq. 4 baseline)"
+            }
+        );
+        summary.insert(
+            format!("{method:?}"),
+            serde_json::json!({
+                "ate_sim3_mean_m": mean(|r| r.ate_sim3_m),
+                "ate_sim3_worst_m": worst(|r| r.ate_sim3_m),
+                "ate_se3_mean_m": mean(|r| r.ate_se3_m),
+                "ate_se3_worst_m": worst(|r| r.ate_se3_m),
+                "rpe_frame_mean_m": mean(|r| r.rpe_frame_m),
+                "final_error_mean_m": mean(|r| r.final_error_m),
+                "seeds": of_method.len(),
+            }),
+        );
+    }
+    let json_path = args.out.join("eval_vo.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&summary).unwrap_or_default(),
+    )
+    .map_err(|e| format!("{}: {e}", json_path.display()))?;
+    println!(
+        "wrote {}/{{ballistic,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
+        args.out.display()
+    );
+    Ok(())
+}

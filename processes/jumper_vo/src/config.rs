@@ -1,0 +1,299 @@
+//! Configuration of the jumper VO (`[jumper_vo]` table): serde with defaults,
+//! `deny_unknown_fields`, and [`JumperVoConfig::validate`] naming the offending key.
+//!
+//! ```
+//! use hopnav_jumper_vo::config::JumperVoConfig;
+//! let mut cfg = JumperVoConfig::default();
+//! assert!(cfg.validate().is_ok());
+//! cfg.keyframe_min_parallax_deg = -1.0;
+//! let err = cfg.validate().unwrap_err().to_string();
+//! assert!(err.contains("jumper_vo.keyframe_min_parallax_deg"));
+//! ```
+
+use serde::Deserialize;
+
+/// How the metric scale of the monocular translation is obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ScaleMethod {
+    /// Paper eq. (4)–(5): `λ = Δz_alt / t_z^w` over the current keyframe pair. Singular near
+    /// the apex and noisy with σ = 1 m; kept as the baseline.
+    PaperEq4,
+    /// Default: a least-squares fit of the launch velocity with the known-g ballistic model, fed
+    /// by every altimeter sample and by every VO translation direction (gravity makes the
+    /// length of a direction observable); the VO translation is scaled by the fitted
+    /// displacement along it.
+    #[default]
+    Ballistic,
+}
+
+/// Essential-matrix minimal solver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverChoice {
+    /// Nistér's 5-point (default).
+    #[default]
+    FivePoint,
+    /// Normalized 8-point.
+    EightPoint,
+}
+
+/// Settings of [`crate::pipeline::JumperVo`].
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct JumperVoConfig {
+    /// Maximum number of tracked features.
+    pub max_features: usize,
+    /// Fewer tracked features (or RANSAC inliers) than this: starvation, ballistic propagation.
+    pub min_tracked_features: usize,
+    /// A vision estimate with a smaller inlier fraction of the tracks is rejected (propagated).
+    pub min_inlier_ratio: f64,
+    /// Camera pitch below body −x, radians.
+    pub mount_pitch_down_rad: f64,
+    /// Camera centre in the body frame, metres.
+    pub camera_offset_body_m: [f64; 3],
+    /// Essential-matrix solver.
+    pub essential_solver: SolverChoice,
+    /// Scale method.
+    pub scale_method: ScaleMethod,
+    /// Below this median rotation-compensated parallax (vs the keyframe) the translation
+    /// direction is not used.
+    pub keyframe_min_parallax_deg: f64,
+    /// Median parallax above which the current frame becomes the next keyframe.
+    pub keyframe_max_parallax_deg: f64,
+    /// New keyframe when fewer than this fraction of the keyframe's features are still tracked.
+    pub keyframe_min_track_fraction: f64,
+    /// New keyframe when fewer features than this are still tracked.
+    pub keyframe_min_tracks: usize,
+    /// Gravity, m/s².
+    pub gravity_mps2: f64,
+    /// Altimeter noise σ, metres.
+    pub altimeter_sigma_m: f64,
+    /// Assumed σ of a VO translation direction, radians (weights it against the altimeter).
+    pub direction_sigma_rad: f64,
+    /// Commanded launch speed, m/s (a weak prior until tracking starts; ≤ 0 disables it).
+    pub launch_speed_mps: f64,
+    /// Commanded launch elevation, radians.
+    pub launch_elevation_rad: f64,
+    /// σ of the launch-velocity prior per axis, m/s.
+    pub launch_velocity_sigma_mps: f64,
+    /// Largest plausible speed, m/s: bounds the eq. (4) scale and the propagated velocity.
+    pub max_speed_mps: f64,
+    /// KLT pixel noise σ assumed by the RANSAC thresholds.
+    pub pixel_sigma_px: f64,
+    /// Triangulate and publish a world-frame cloud at keyframes.
+    pub publish_cloud: bool,
+}
+
+impl Default for JumperVoConfig {
+    fn default() -> Self {
+        Self {
+            max_features: 1000,
+            min_tracked_features: 60,
+            min_inlier_ratio: 0.3,
+            mount_pitch_down_rad: std::f64::consts::FRAC_PI_6,
+            camera_offset_body_m: [-0.1, 0.0, 0.0],
+            essential_solver: SolverChoice::FivePoint,
+            scale_method: ScaleMethod::Ballistic,
+            keyframe_min_parallax_deg: 0.3,
+            keyframe_max_parallax_deg: 4.0,
+            keyframe_min_track_fraction: 0.5,
+            keyframe_min_tracks: 120,
+            gravity_mps2: crate::trajectory::MARS_G_MPS2,
+            altimeter_sigma_m: 1.0,
+            direction_sigma_rad: 0.01,
+            launch_speed_mps: 10.0,
+            launch_elevation_rad: 60f64.to_radians(),
+            launch_velocity_sigma_mps: 1.0,
+            max_speed_mps: 20.0,
+            pixel_sigma_px: 0.5,
+            publish_cloud: true,
+        }
+    }
+}
+
+/// A configuration value out of range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("jumper_vo.{key} must be in {allowed}, got {value}")]
+pub struct ConfigError {
+    /// Key under `jumper_vo`.
+    pub key: &'static str,
+    /// Allowed range, human readable.
+    pub allowed: &'static str,
+    /// Offending value.
+    pub value: String,
+}
+
+fn check(
+    key: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<(), ConfigError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError {
+            key,
+            allowed,
+            value: value.to_string(),
+        })
+    }
+}
+
+fn check_count(
+    key: &'static str,
+    value: usize,
+    lo: usize,
+    hi: usize,
+    allowed: &'static str,
+) -> Result<(), ConfigError> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(ConfigError {
+            key,
+            allowed,
+            value: value.to_string(),
+        })
+    }
+}
+
+impl JumperVoConfig {
+    /// Checks every value; the error names `jumper_vo.<key>` and the allowed range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_count("max_features", self.max_features, 16, 4096, "[16, 4096]")?;
+        check_count(
+            "min_tracked_features",
+            self.min_tracked_features,
+            8,
+            1000,
+            "[8, 1000]",
+        )?;
+        check(
+            "min_inlier_ratio",
+            self.min_inlier_ratio,
+            0.0,
+            1.0,
+            "[0, 1]",
+        )?;
+        check(
+            "mount_pitch_down_rad",
+            self.mount_pitch_down_rad,
+            -1.5,
+            1.5,
+            "[-1.5, 1.5]",
+        )?;
+        for v in self.camera_offset_body_m {
+            check("camera_offset_body_m", v, -5.0, 5.0, "[-5, 5] per axis")?;
+        }
+        check(
+            "keyframe_min_parallax_deg",
+            self.keyframe_min_parallax_deg,
+            0.0,
+            10.0,
+            "[0, 10]",
+        )?;
+        check(
+            "keyframe_max_parallax_deg",
+            self.keyframe_max_parallax_deg,
+            self.keyframe_min_parallax_deg.max(0.1),
+            45.0,
+            "[max(keyframe_min_parallax_deg, 0.1), 45]",
+        )?;
+        check(
+            "keyframe_min_track_fraction",
+            self.keyframe_min_track_fraction,
+            0.0,
+            1.0,
+            "[0, 1]",
+        )?;
+        check_count(
+            "keyframe_min_tracks",
+            self.keyframe_min_tracks,
+            0,
+            4096,
+            "[0, 4096]",
+        )?;
+        check(
+            "gravity_mps2",
+            self.gravity_mps2,
+            0.01,
+            100.0,
+            "[0.01, 100]",
+        )?;
+        check(
+            "altimeter_sigma_m",
+            self.altimeter_sigma_m,
+            1e-3,
+            1000.0,
+            "[0.001, 1000]",
+        )?;
+        check(
+            "direction_sigma_rad",
+            self.direction_sigma_rad,
+            1e-5,
+            1.0,
+            "[1e-5, 1]",
+        )?;
+        check(
+            "launch_speed_mps",
+            self.launch_speed_mps,
+            0.0,
+            100.0,
+            "[0, 100] (0 disables)",
+        )?;
+        check(
+            "launch_elevation_rad",
+            self.launch_elevation_rad,
+            -1.6,
+            1.6,
+            "[-1.6, 1.6]",
+        )?;
+        check(
+            "launch_velocity_sigma_mps",
+            self.launch_velocity_sigma_mps,
+            1e-3,
+            100.0,
+            "[0.001, 100]",
+        )?;
+        check(
+            "max_speed_mps",
+            self.max_speed_mps,
+            0.1,
+            1000.0,
+            "[0.1, 1000]",
+        )?;
+        check(
+            "pixel_sigma_px",
+            self.pixel_sigma_px,
+            0.05,
+            10.0,
+            "[0.05, 10]",
+        )?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_values_name_their_key() {
+        let cfg = JumperVoConfig {
+            max_features: 3,
+            ..JumperVoConfig::default()
+        };
+        assert_eq!(
+            cfg.validate().unwrap_err().to_string(),
+            "jumper_vo.max_features must be in [16, 4096], got 3"
+        );
+        let cfg = JumperVoConfig {
+            altimeter_sigma_m: f64::NAN,
+            ..JumperVoConfig::default()
+        };
+        assert_eq!(cfg.validate().unwrap_err().key, "altimeter_sigma_m");
+    }
+}

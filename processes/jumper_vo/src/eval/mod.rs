@@ -1,0 +1,147 @@
+//! Evaluation of the jumper VO against ground truth: ATE after Sim(3) and SE(3) alignment,
+//! RPE, final position error, TUM files and a Fig.-5-style PNG.
+//!
+//! [`run_hop`] feeds a [`SimulatedHop`] frame by frame through [`JumperVo`] and times
+//! `process_frame`; [`evaluate`] computes the metrics.
+
+pub mod align;
+pub mod metrics;
+pub mod plot;
+pub mod tum;
+
+use crate::config::JumperVoConfig;
+use crate::output::{FrameInput, VoOutput, VoStatus};
+use crate::pipeline::{JumperVo, VoError};
+use crate::simulate::SimulatedHop;
+use hopnav_vision::image::ImageView;
+use nalgebra::Isometry3;
+use std::time::Instant;
+
+/// Outputs and per-frame timings of one run.
+#[derive(Debug, Clone)]
+pub struct HopRun {
+    /// One output per frame.
+    pub outputs: Vec<VoOutput>,
+    /// Wall time of each `process_frame` call, microseconds.
+    pub frame_time_us: Vec<f64>,
+}
+
+impl HopRun {
+    /// Estimated poses.
+    pub fn poses(&self) -> Vec<Isometry3<f64>> {
+        self.outputs.iter().map(|o| o.world_from_body).collect()
+    }
+}
+
+/// Runs the pipeline over every frame of `hop`, starting from the true launch pose.
+pub fn run_hop(hop: &SimulatedHop, config: &JumperVoConfig) -> Result<HopRun, VoError> {
+    let initial = hop
+        .truth_world_from_body
+        .first()
+        .copied()
+        .unwrap_or_else(Isometry3::identity);
+    let mut vo = JumperVo::new(config.clone(), hop.camera, initial)?;
+    let mut run = HopRun {
+        outputs: Vec::with_capacity(hop.images.len()),
+        frame_time_us: Vec::with_capacity(hop.images.len()),
+    };
+    for (k, image) in hop.images.iter().enumerate() {
+        let Ok(view) = ImageView::packed(image, hop.width_px, hop.height_px) else {
+            continue;
+        };
+        let input = FrameInput {
+            frame_index: k as u64,
+            t_s: hop.t_s.get(k).copied().unwrap_or(f64::NAN),
+            image: view,
+            altimeter_m: hop.altimeter_m.get(k).copied(),
+        };
+        let start = Instant::now();
+        let out = vo.process_frame(input);
+        run.frame_time_us.push(start.elapsed().as_secs_f64() * 1e6);
+        run.outputs.push(out);
+    }
+    Ok(run)
+}
+
+/// Metrics of one run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VoReport {
+    /// Frames evaluated.
+    pub frames: usize,
+    /// Position RMSE with no alignment (the VO starts from the true launch pose), metres.
+    pub rmse_unaligned_m: f64,
+    /// ATE RMSE after Sim(3) Umeyama alignment, metres.
+    pub ate_sim3_m: f64,
+    /// ATE RMSE after SE(3) Umeyama alignment, metres.
+    pub ate_se3_m: f64,
+    /// Scale of the Sim(3) alignment (1 = perfect metric scale).
+    pub sim3_scale: f64,
+    /// RPE over one frame: translation RMSE, metres.
+    pub rpe_frame_m: f64,
+    /// RPE over one frame: rotation RMSE, radians.
+    pub rpe_frame_rad: f64,
+    /// RPE translation per metre travelled (over one frame).
+    pub rpe_per_m: f64,
+    /// Final position error, metres.
+    pub final_error_m: f64,
+    /// Largest attitude error over the run, radians.
+    pub max_rotation_error_rad: f64,
+    /// Frames not produced by a vision estimate (propagated, landed, rejected).
+    pub non_tracking_frames: usize,
+    /// Keyframes.
+    pub keyframes: usize,
+}
+
+/// Computes the metrics of `outputs` against `truth` (matched by index).
+pub fn evaluate(outputs: &[VoOutput], truth: &[Isometry3<f64>]) -> Option<VoReport> {
+    let n = outputs.len().min(truth.len());
+    let est: Vec<Isometry3<f64>> = outputs[..n].iter().map(|o| o.world_from_body).collect();
+    let gt = &truth[..n];
+    let sim3 = metrics::ate(&est, gt, true)?;
+    let se3 = metrics::ate(&est, gt, false)?;
+    let rpe = metrics::rpe(&est, gt, 1)?;
+    Some(VoReport {
+        frames: n,
+        rmse_unaligned_m: metrics::unaligned_rmse_m(&est, gt),
+        ate_sim3_m: sim3.rmse_m,
+        ate_se3_m: se3.rmse_m,
+        sim3_scale: sim3.alignment.scale,
+        rpe_frame_m: rpe.translation_rmse_m,
+        rpe_frame_rad: rpe.rotation_rmse_rad,
+        rpe_per_m: rpe.translation_per_m,
+        final_error_m: metrics::final_position_error_m(&est, gt)?,
+        max_rotation_error_rad: est
+            .iter()
+            .zip(gt)
+            .map(|(e, g)| e.rotation.angle_to(&g.rotation))
+            .fold(0.0, f64::max),
+        non_tracking_frames: outputs[..n]
+            .iter()
+            .filter(|o| !matches!(o.status, VoStatus::Tracking | VoStatus::Initializing))
+            .count(),
+        keyframes: outputs[..n].iter().filter(|o| o.is_keyframe).count(),
+    })
+}
+
+impl std::fmt::Display for VoReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "frames {} | ATE sim3 {:.3} m (scale {:.3}) | ATE se3 {:.3} m | unaligned {:.3} m | \
+             RPE {:.3} m/frame {:.2}°/frame {:.3} m/m | final {:.3} m | max rot err {:.2}° | \
+             non-tracking {} | keyframes {}",
+            self.frames,
+            self.ate_sim3_m,
+            self.sim3_scale,
+            self.ate_se3_m,
+            self.rmse_unaligned_m,
+            self.rpe_frame_m,
+            self.rpe_frame_rad.to_degrees(),
+            self.rpe_per_m,
+            self.final_error_m,
+            self.max_rotation_error_rad.to_degrees(),
+            self.non_tracking_frames,
+            self.keyframes
+        )
+    }
+}

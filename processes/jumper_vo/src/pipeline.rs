@@ -1,0 +1,611 @@
+//! The jumper VO pipeline (paper §2, steps 1–7) with keyframes, altimeter scale and a ballistic
+//! fallback.
+//!
+//! Per frame ([`JumperVo::process_frame`]):
+//!
+//! 1. track the live features into the new frame (KLT, forward–backward check);
+//! 2. estimate `cam_cur_from_cam_kf` against the **keyframe** (§2.1, longer baseline): 5-point
+//!    (or 8-point) essential RANSAC and homography RANSAC, model selection, homography
+//!    decomposition picked with the gravity direction predicted by the current attitude;
+//! 3. attitude: `world_from_cam_kf · cam_kf_from_cam_cur` (rotation error grows per keyframe,
+//!    not per frame);
+//! 4. translation direction in the world frame (eq. 5), scaled by the configured
+//!    [`ScaleMethod`]; position = keyframe position + scale · direction (step 6);
+//! 5. keyframe when the median rotation-compensated parallax or the surviving track count
+//!    crosses its threshold; the new keyframe triangulates a world-frame cloud and tops up the
+//!    features (step 1 again).
+//!
+//! Starvation (black, blurred or sky frames, landing impact, RANSAC failure) never diverges:
+//! the pose is propagated with the ballistic model (fitted launch velocity and gravity, or the
+//! last velocity for the eq. 4 baseline) and a constant angular rate, confidence drops to 0.1,
+//! and the current frame becomes a fresh keyframe so tracking resumes at the next one. After
+//! the predicted touchdown the position is held and the tracker re-initialized.
+
+use crate::ballistic::BallisticFit;
+use crate::cloud::{WorldPoint, fill_heights_above_ground, triangulate_cloud};
+use crate::config::{ConfigError, JumperVoConfig, ScaleMethod, SolverChoice};
+use crate::frames::body_from_camera;
+use crate::output::{FrameInput, VoOutput, VoStatus};
+use crate::scale;
+use crate::tracks::{FeatureTracks, TrackError};
+use hopnav_vision::camera::PinholeCamera;
+use hopnav_vision::two_view::{EssentialSolver, MotionModel, TwoViewConfig, TwoViewEstimator};
+use nalgebra::{Isometry3, Point2, Translation3, Unit, UnitQuaternion, Vector2, Vector3};
+
+/// Error creating a [`JumperVo`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum VoError {
+    /// A configuration value is out of range.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The front end could not be built for this camera.
+    #[error("front end: {0}")]
+    Tracks(#[from] TrackError),
+    /// The initial pose is not finite.
+    #[error("initial_world_from_body is not finite")]
+    BadInitialPose,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Keyframe {
+    world_from_cam: Isometry3<f64>,
+    tau_s: f64,
+    /// Camera altitude at the keyframe (altimeter + lever arm), for eq. 4.
+    camera_altitude_m: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    WaitingFirstFrame,
+    Flight,
+    Landed,
+}
+
+/// Jumper monocular VO with altimeter scale. Allocates in `new`; per frame only keyframes
+/// allocate (the cloud).
+#[derive(Debug, Clone)]
+pub struct JumperVo {
+    config: JumperVoConfig,
+    camera: PinholeCamera,
+    body_from_camera: Isometry3<f64>,
+    tracks: FeatureTracks,
+    estimator: TwoViewEstimator,
+    x1: Vec<Vector2<f64>>,
+    x2: Vec<Vector2<f64>>,
+    keep: Vec<bool>,
+    parallax: Vec<f64>,
+    phase: Phase,
+    launch_t_s: f64,
+    launch_world_from_body: Isometry3<f64>,
+    fit: BallisticFit,
+    keyframe: Keyframe,
+    last_world_from_body: Isometry3<f64>,
+    last_tau_s: f64,
+    /// World-frame angular velocity (rotation vector per second).
+    angular_velocity_radps: Vector3<f64>,
+    /// World-frame body velocity (eq. 4 propagation).
+    velocity_mps: Vector3<f64>,
+    frame_dt_s: f64,
+}
+
+impl JumperVo {
+    /// Validates `config` and allocates the front end for `camera`.
+    pub fn new(
+        config: JumperVoConfig,
+        camera: PinholeCamera,
+        initial_world_from_body: Isometry3<f64>,
+    ) -> Result<Self, VoError> {
+        config.validate()?;
+        if !initial_world_from_body
+            .to_homogeneous()
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Err(VoError::BadInitialPose);
+        }
+        let tracks = FeatureTracks::new(
+            camera.width_px as usize,
+            camera.height_px as usize,
+            config.max_features,
+        )?;
+        let mut tv = TwoViewConfig::for_camera(&camera);
+        tv.sigma_px = config.pixel_sigma_px;
+        tv.min_inliers = config.min_tracked_features;
+        tv.solver = match config.essential_solver {
+            SolverChoice::FivePoint => EssentialSolver::FivePoint,
+            SolverChoice::EightPoint => EssentialSolver::EightPoint,
+        };
+        let [ox, oy, oz] = config.camera_offset_body_m;
+        let body_from_camera =
+            body_from_camera(config.mount_pitch_down_rad, &Vector3::new(ox, oy, oz));
+        let n = config.max_features;
+        let mut vo = Self {
+            estimator: TwoViewEstimator::new(tv, n),
+            x1: Vec::with_capacity(n),
+            x2: Vec::with_capacity(n),
+            keep: Vec::with_capacity(n),
+            parallax: Vec::with_capacity(n),
+            tracks,
+            camera,
+            body_from_camera,
+            phase: Phase::WaitingFirstFrame,
+            launch_t_s: 0.0,
+            launch_world_from_body: initial_world_from_body,
+            fit: BallisticFit::new(
+                initial_world_from_body.translation.vector.into(),
+                config.gravity_mps2,
+            ),
+            keyframe: Keyframe {
+                world_from_cam: initial_world_from_body * body_from_camera,
+                tau_s: 0.0,
+                camera_altitude_m: None,
+            },
+            last_world_from_body: initial_world_from_body,
+            last_tau_s: 0.0,
+            angular_velocity_radps: Vector3::zeros(),
+            velocity_mps: Vector3::zeros(),
+            frame_dt_s: 0.1,
+            config,
+        };
+        vo.start_hop(initial_world_from_body);
+        Ok(vo)
+    }
+
+    /// Starts a new hop from `world_from_body` (e.g. after a landing): the next frame is the
+    /// launch instant. Non-finite poses are ignored.
+    pub fn start_hop(&mut self, world_from_body: Isometry3<f64>) {
+        if !world_from_body
+            .to_homogeneous()
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return;
+        }
+        self.phase = Phase::WaitingFirstFrame;
+        self.launch_world_from_body = world_from_body;
+        self.last_world_from_body = world_from_body;
+        self.fit = BallisticFit::new(
+            world_from_body.translation.vector.into(),
+            self.config.gravity_mps2,
+        );
+        self.velocity_mps = Vector3::zeros();
+        if self.config.launch_speed_mps > 0.0 {
+            let heading = world_from_body.rotation * Vector3::x();
+            let yaw = heading.y.atan2(heading.x);
+            let (se, ce) = self.config.launch_elevation_rad.sin_cos();
+            let v = self.config.launch_speed_mps * Vector3::new(ce * yaw.cos(), ce * yaw.sin(), se);
+            self.fit
+                .add_velocity_prior(&v, self.config.launch_velocity_sigma_mps);
+            self.velocity_mps = v;
+        }
+        self.angular_velocity_radps = Vector3::zeros();
+        self.tracks.reset();
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &JumperVoConfig {
+        &self.config
+    }
+
+    /// The ballistic launch-velocity fit (diagnostics).
+    pub fn ballistic_fit(&self) -> &BallisticFit {
+        &self.fit
+    }
+
+    /// `body_from_camera` of the mount.
+    pub fn body_from_camera(&self) -> Isometry3<f64> {
+        self.body_from_camera
+    }
+
+    fn lever_world(&self, rotation: &UnitQuaternion<f64>) -> Vector3<f64> {
+        rotation * self.body_from_camera.translation.vector
+    }
+
+    fn output(&self, input: &FrameInput<'_>, status: VoStatus) -> VoOutput {
+        VoOutput {
+            frame_index: input.frame_index,
+            t_s: input.t_s,
+            world_from_body: self.last_world_from_body,
+            confidence: 0.0,
+            status,
+            is_keyframe: false,
+            tracked_features: 0,
+            inliers: 0,
+            scale: None,
+            model: None,
+            cloud: None,
+        }
+    }
+
+    /// Runs steps 1–7 on one frame. Never panics; bad input gives a [`VoStatus::Rejected`] or
+    /// [`VoStatus::Propagating`] output.
+    pub fn process_frame(&mut self, input: FrameInput<'_>) -> VoOutput {
+        if !input.t_s.is_finite() {
+            return self.output(&input, VoStatus::Rejected);
+        }
+        if self.phase == Phase::WaitingFirstFrame {
+            return self.first_frame(&input);
+        }
+        let tau = input.t_s - self.launch_t_s;
+        let dt = tau - self.last_tau_s;
+        if dt.is_nan() || dt <= 0.0 {
+            return self.output(&input, VoStatus::Rejected);
+        }
+        self.frame_dt_s = dt;
+        let altitude = input.altimeter_m.filter(|z| z.is_finite());
+        if self.phase == Phase::Flight {
+            if let Some(z) = altitude {
+                self.fit.add_altitude(tau, z, self.config.altimeter_sigma_m);
+            }
+            if let Some(td) = self.fit.touchdown_tau_s()
+                && tau > 1.0
+                && self.fit.altitude_rows() >= 10
+                && tau >= td
+            {
+                return self.land(&input, td, tau);
+            }
+        }
+        let tracked = self.tracks.track(&input.image).unwrap_or(0);
+        if self.phase == Phase::Landed {
+            return self.landed_frame(&input, tau, tracked);
+        }
+        match self.estimate(tau, tracked, altitude) {
+            Some(out) => self.finish(out, &input, tau),
+            None => self.propagate(&input, tau, tracked, altitude),
+        }
+    }
+
+    fn first_frame(&mut self, input: &FrameInput<'_>) -> VoOutput {
+        self.launch_t_s = input.t_s;
+        self.last_tau_s = 0.0;
+        self.phase = Phase::Flight;
+        self.tracks.reset();
+        // A wrong-size image only leaves the tracker empty; the next frame retries.
+        let _ = self.tracks.track(&input.image);
+        let features = self.tracks.set_keyframe().unwrap_or(0);
+        let rotation = self.launch_world_from_body.rotation;
+        self.keyframe = Keyframe {
+            world_from_cam: self.launch_world_from_body * self.body_from_camera,
+            tau_s: 0.0,
+            camera_altitude_m: input
+                .altimeter_m
+                .filter(|z| z.is_finite())
+                .map(|z| z + self.lever_world(&rotation).z)
+                .or(Some(
+                    self.launch_world_from_body.translation.z + self.lever_world(&rotation).z,
+                )),
+        };
+        let mut out = self.output(input, VoStatus::Initializing);
+        out.confidence = 1.0;
+        out.is_keyframe = true;
+        out.tracked_features = features;
+        out
+    }
+
+    /// Vision estimate against the keyframe; `None` on starvation or geometric failure.
+    fn estimate(&mut self, tau: f64, tracked: usize, altitude: Option<f64>) -> Option<Estimate> {
+        if tracked < self.config.min_tracked_features {
+            return None;
+        }
+        self.x1.clear();
+        self.x2.clear();
+        let cam = self.camera;
+        let to_norm = |p: &Point2<f32>| cam.pixel_f32_to_normalized(*p);
+        self.x1
+            .extend(self.tracks.keyframe_px().iter().map(to_norm));
+        self.x2.extend(self.tracks.current_px().iter().map(to_norm));
+        let down_cam_kf =
+            Unit::new_normalize(self.keyframe.world_from_cam.rotation.inverse() * -Vector3::z());
+        let est = self
+            .estimator
+            .estimate(&self.x1, &self.x2, Some(&down_cam_kf))
+            .ok()?;
+        let inliers = self.estimator.inliers();
+        if inliers.len() < self.config.min_tracked_features
+            || (inliers.len() as f64) < self.config.min_inlier_ratio * tracked as f64
+        {
+            return None;
+        }
+        // Rotation-compensated parallax of the inliers.
+        let rel = est.cam2_from_cam1;
+        self.parallax.clear();
+        for &i in inliers {
+            let b1 = rel.rotation * self.x1[i].push(1.0).normalize();
+            let b2 = self.x2[i].push(1.0).normalize();
+            self.parallax.push(b1.angle(&b2));
+        }
+        self.parallax.sort_by(f64::total_cmp);
+        let median_parallax_rad = self.parallax[self.parallax.len() / 2];
+        self.keep.clear();
+        self.keep.resize(self.x1.len(), false);
+        for &i in inliers {
+            self.keep[i] = true;
+        }
+        let world_from_cam = Isometry3::from_parts(
+            Translation3::identity(),
+            self.keyframe.world_from_cam.rotation * rel.rotation.inverse(),
+        );
+        let body_rotation = world_from_cam.rotation * self.body_from_camera.rotation.inverse();
+        let lever_kf = self.lever_world(
+            &(self.keyframe.world_from_cam.rotation * self.body_from_camera.rotation.inverse()),
+        );
+        let lever_cur = self.lever_world(&body_rotation);
+        let center_kf = self.keyframe.world_from_cam.translation.vector;
+        let mut position = None;
+        let mut scale_m = None;
+        let usable_translation = est.model != MotionModel::PureRotation
+            && median_parallax_rad >= self.config.keyframe_min_parallax_deg.to_radians();
+        if usable_translation {
+            let dir_cam_kf = -(rel.rotation.inverse() * rel.translation.vector);
+            let d = self.keyframe.world_from_cam.rotation * dir_cam_kf;
+            if let Some(d) = d.try_normalize(1e-9) {
+                let offset = lever_cur - lever_kf;
+                match self.config.scale_method {
+                    ScaleMethod::Ballistic => {
+                        self.fit.add_direction(
+                            self.keyframe.tau_s,
+                            tau,
+                            &d,
+                            &offset,
+                            self.config.direction_sigma_rad,
+                        );
+                        if let Some(s) =
+                            scale::ballistic(&self.fit, self.keyframe.tau_s, tau, &d, &offset)
+                        {
+                            // Re-anchor the keyframe on the current fit, then follow the ray.
+                            let anchor = self
+                                .fit
+                                .position_m(self.keyframe.tau_s)
+                                .map(|p| p.coords + lever_kf)
+                                .unwrap_or(center_kf);
+                            scale_m = Some(s);
+                            position = Some(anchor + d * s - lever_cur);
+                        }
+                    }
+                    ScaleMethod::PaperEq4 => {
+                        let dt_kf = (tau - self.keyframe.tau_s).max(1e-3);
+                        let max_scale = self.config.max_speed_mps * dt_kf;
+                        let lambda = match (self.keyframe.camera_altitude_m, altitude) {
+                            (Some(za), Some(zb)) => {
+                                scale::paper_eq4(za, zb + lever_cur.z, &d, 0.05, max_scale)
+                            }
+                            _ => None,
+                        };
+                        let lambda = lambda.unwrap_or_else(|| {
+                            // Singular or missing: keep the last speed (ballistic).
+                            let v_mid = self.velocity_mps
+                                - Vector3::z() * (0.5 * self.config.gravity_mps2 * dt_kf);
+                            (v_mid * dt_kf).norm()
+                        });
+                        scale_m = Some(lambda);
+                        position = Some(center_kf + d * lambda - lever_cur);
+                    }
+                }
+            }
+        }
+        let position = position.unwrap_or_else(|| self.propagated_position(tau));
+        Some(Estimate {
+            world_from_body: Isometry3::from_parts(Translation3::from(position), body_rotation),
+            model: est.model,
+            inliers: inliers.len(),
+            tracked,
+            median_parallax_rad,
+            scale_m,
+        })
+    }
+
+    fn propagated_position(&self, tau: f64) -> Vector3<f64> {
+        match self.config.scale_method {
+            ScaleMethod::Ballistic => self
+                .fit
+                .position_m(tau)
+                .map(|p| p.coords)
+                .unwrap_or(self.last_world_from_body.translation.vector),
+            ScaleMethod::PaperEq4 => {
+                let dt = tau - self.last_tau_s;
+                self.last_world_from_body.translation.vector + self.velocity_mps * dt
+                    - Vector3::z() * (0.5 * self.config.gravity_mps2 * dt * dt)
+            }
+        }
+    }
+
+    fn update_rates(&mut self, new: &Isometry3<f64>, tau: f64, rotation_valid: bool) {
+        let dt = tau - self.last_tau_s;
+        if dt > 0.0 {
+            let v = (new.translation.vector - self.last_world_from_body.translation.vector) / dt
+                - Vector3::z() * (0.5 * self.config.gravity_mps2 * dt);
+            if v.iter().all(|x| x.is_finite()) {
+                // Clamped: a singular eq. (4) step must not feed back into the propagation.
+                let max = self.config.max_speed_mps;
+                self.velocity_mps = if v.norm() > max {
+                    v * (max / v.norm())
+                } else {
+                    v
+                };
+            }
+            if rotation_valid {
+                let w = (new.rotation * self.last_world_from_body.rotation.inverse()).scaled_axis()
+                    / dt;
+                if w.iter().all(|x| x.is_finite()) {
+                    self.angular_velocity_radps = w;
+                }
+            }
+        }
+        self.last_world_from_body = *new;
+        self.last_tau_s = tau;
+    }
+
+    fn finish(&mut self, est: Estimate, input: &FrameInput<'_>, tau: f64) -> VoOutput {
+        let pose = est.world_from_body;
+        let world_from_cam = pose * self.body_from_camera;
+        let make_keyframe = est.median_parallax_rad
+            >= self.config.keyframe_max_parallax_deg.to_radians()
+            || est.inliers < self.config.keyframe_min_tracks
+            || (est.inliers as f64)
+                < self.config.keyframe_min_track_fraction * self.tracks.keyframe_count() as f64;
+        let mut cloud = None;
+        if make_keyframe && self.config.publish_cloud && est.scale_m.is_some() {
+            let cam2_from_cam1 = world_from_cam.inverse() * self.keyframe.world_from_cam;
+            let mut points: Vec<WorldPoint> = Vec::with_capacity(est.inliers);
+            triangulate_cloud(
+                &self.keyframe.world_from_cam,
+                &cam2_from_cam1,
+                &self.x1,
+                &self.x2,
+                self.estimator.inliers(),
+                self.camera.mean_focal_px(),
+                &mut points,
+            );
+            fill_heights_above_ground(&mut points);
+            cloud = Some(points);
+        }
+        self.tracks.retain(&self.keep);
+        let mut tracked_after = est.tracked;
+        if make_keyframe {
+            tracked_after = self.tracks.set_keyframe().unwrap_or(0);
+            let lever = self.lever_world(&pose.rotation);
+            self.keyframe = Keyframe {
+                world_from_cam,
+                tau_s: tau,
+                camera_altitude_m: input
+                    .altimeter_m
+                    .filter(|z| z.is_finite())
+                    .map(|z| z + lever.z)
+                    .or(Some(world_from_cam.translation.z)),
+            };
+        }
+        self.update_rates(&pose, tau, true);
+        let inlier_ratio = est.inliers as f64 / est.tracked.max(1) as f64;
+        VoOutput {
+            frame_index: input.frame_index,
+            t_s: input.t_s,
+            world_from_body: pose,
+            confidence: ((est.inliers as f64 / 150.0).min(1.0) * inlier_ratio).clamp(0.0, 1.0),
+            status: VoStatus::Tracking,
+            is_keyframe: make_keyframe,
+            tracked_features: tracked_after.max(est.tracked),
+            inliers: est.inliers,
+            scale: est.scale_m,
+            model: Some(est.model),
+            cloud,
+        }
+    }
+
+    fn propagate(
+        &mut self,
+        input: &FrameInput<'_>,
+        tau: f64,
+        tracked: usize,
+        altitude: Option<f64>,
+    ) -> VoOutput {
+        let dt = tau - self.last_tau_s;
+        let rotation = UnitQuaternion::from_scaled_axis(self.angular_velocity_radps * dt)
+            * self.last_world_from_body.rotation;
+        let position = self.propagated_position(tau);
+        let pose = Isometry3::from_parts(Translation3::from(position), rotation);
+        // Restart tracking from this frame.
+        self.tracks.retain(&[]);
+        let features = self.tracks.set_keyframe().unwrap_or(0);
+        let world_from_cam = pose * self.body_from_camera;
+        let lever = self.lever_world(&rotation);
+        self.keyframe = Keyframe {
+            world_from_cam,
+            tau_s: tau,
+            camera_altitude_m: altitude
+                .map(|z| z + lever.z)
+                .or(Some(world_from_cam.translation.z)),
+        };
+        let w = self.angular_velocity_radps;
+        self.update_rates(&pose, tau, false);
+        self.angular_velocity_radps = w;
+        let mut out = self.output(input, VoStatus::Propagating);
+        out.confidence = 0.1;
+        out.is_keyframe = true;
+        out.tracked_features = tracked.max(features);
+        out
+    }
+
+    fn land(&mut self, input: &FrameInput<'_>, touchdown_tau: f64, tau: f64) -> VoOutput {
+        self.phase = Phase::Landed;
+        let position = match self.config.scale_method {
+            ScaleMethod::Ballistic => self
+                .fit
+                .position_m(touchdown_tau)
+                .map(|p| p.coords)
+                .unwrap_or(self.last_world_from_body.translation.vector),
+            ScaleMethod::PaperEq4 => self.propagated_position(touchdown_tau.max(self.last_tau_s)),
+        };
+        let pose = Isometry3::from_parts(
+            Translation3::from(position),
+            self.last_world_from_body.rotation,
+        );
+        self.tracks.reset();
+        let _ = self.tracks.track(&input.image);
+        let features = self.tracks.set_keyframe().unwrap_or(0);
+        self.keyframe = Keyframe {
+            world_from_cam: pose * self.body_from_camera,
+            tau_s: tau,
+            camera_altitude_m: None,
+        };
+        self.last_world_from_body = pose;
+        self.last_tau_s = tau;
+        self.velocity_mps = Vector3::zeros();
+        self.angular_velocity_radps = Vector3::zeros();
+        let mut out = self.output(input, VoStatus::Landed);
+        out.confidence = 0.3;
+        out.is_keyframe = true;
+        out.tracked_features = features;
+        out
+    }
+
+    /// After touchdown: position held, rotation from vision when it works.
+    fn landed_frame(&mut self, input: &FrameInput<'_>, tau: f64, tracked: usize) -> VoOutput {
+        let mut out = self.output(input, VoStatus::Landed);
+        out.tracked_features = tracked;
+        if tracked >= self.config.min_tracked_features {
+            self.x1.clear();
+            self.x2.clear();
+            let cam = self.camera;
+            self.x1.extend(
+                self.tracks
+                    .keyframe_px()
+                    .iter()
+                    .map(|p| cam.pixel_f32_to_normalized(*p)),
+            );
+            self.x2.extend(
+                self.tracks
+                    .current_px()
+                    .iter()
+                    .map(|p| cam.pixel_f32_to_normalized(*p)),
+            );
+            if let Ok(est) = self.estimator.estimate(&self.x1, &self.x2, None) {
+                let rotation = self.keyframe.world_from_cam.rotation
+                    * est.cam2_from_cam1.rotation.inverse()
+                    * self.body_from_camera.rotation.inverse();
+                out.world_from_body.rotation = rotation;
+                out.inliers = est.num_inliers;
+                out.model = Some(est.model);
+                out.confidence = 0.5;
+            }
+        } else {
+            self.tracks.retain(&[]);
+            let _ = self.tracks.set_keyframe();
+            let pose = self.last_world_from_body;
+            self.keyframe.world_from_cam = pose * self.body_from_camera;
+            out.is_keyframe = true;
+        }
+        self.last_world_from_body = out.world_from_body;
+        self.last_tau_s = tau;
+        out
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Estimate {
+    world_from_body: Isometry3<f64>,
+    model: MotionModel,
+    inliers: usize,
+    tracked: usize,
+    median_parallax_rad: f64,
+    scale_m: Option<f64>,
+}

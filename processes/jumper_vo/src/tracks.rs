@@ -1,0 +1,218 @@
+//! Feature tracks of the front end (paper steps 1–2): KLT from frame to frame, each track
+//! remembering its position in the current keyframe, so the geometry can be estimated over the
+//! extended keyframe baseline (§2.1).
+//!
+//! The initial KLT guess of a track is its last displacement (constant image velocity), which
+//! keeps the pyramid search small under the large flow of a 10 fps hop. New corners are only
+//! added when a keyframe is set, so every live track has a keyframe position.
+
+use hopnav_vision::corners::{Corner, CornerConfig, CornerDetector, CornerError};
+use hopnav_vision::image::ImageView;
+use hopnav_vision::klt::{KltConfig, KltError, KltTracker, TrackStatus};
+use hopnav_vision::pyramid::{Pyramid, PyramidConfig, PyramidError};
+use nalgebra::{Point2, Vector2};
+
+/// Error of the front end.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TrackError {
+    /// Pyramid construction or image size.
+    #[error("pyramid: {0}")]
+    Pyramid(#[from] PyramidError),
+    /// KLT configuration or call.
+    #[error("klt: {0}")]
+    Klt(#[from] KltError),
+    /// Corner detector configuration or call.
+    #[error("corners: {0}")]
+    Corners(#[from] CornerError),
+}
+
+/// Tracks, pyramids and detector of one camera.
+#[derive(Debug, Clone)]
+pub struct FeatureTracks {
+    pyr_prev: Pyramid,
+    pyr_cur: Pyramid,
+    has_prev: bool,
+    klt: KltTracker,
+    detector: CornerDetector,
+    max_features: usize,
+    /// Positions in the last frame.
+    cur_px: Vec<Point2<f32>>,
+    /// Positions in the keyframe.
+    kf_px: Vec<Point2<f32>>,
+    /// Last image displacement (prediction for the next frame).
+    flow_px: Vec<Vector2<f32>>,
+    next_px: Vec<Point2<f32>>,
+    status: Vec<TrackStatus>,
+    corners: Vec<Corner>,
+    keyframe_count: usize,
+}
+
+impl FeatureTracks {
+    /// Allocates everything for `width × height` frames and up to `max_features` tracks.
+    pub fn new(width: usize, height: usize, max_features: usize) -> Result<Self, TrackError> {
+        let pyr = PyramidConfig {
+            levels: 4,
+            border_px: 12,
+        };
+        let klt = KltConfig {
+            window_radius_px: 7,
+            ..KltConfig::default()
+        };
+        let corners = CornerConfig {
+            max_features,
+            min_distance_px: 7.0,
+            fill_leftover_budget: true,
+            ..CornerConfig::default()
+        };
+        Ok(Self {
+            pyr_prev: Pyramid::new(width, height, pyr)?,
+            pyr_cur: Pyramid::new(width, height, pyr)?,
+            has_prev: false,
+            klt: KltTracker::new(klt, max_features)?,
+            detector: CornerDetector::new(width, height, corners)?,
+            max_features,
+            cur_px: Vec::with_capacity(max_features),
+            kf_px: Vec::with_capacity(max_features),
+            flow_px: Vec::with_capacity(max_features),
+            next_px: Vec::with_capacity(max_features),
+            status: Vec::with_capacity(max_features),
+            corners: Vec::with_capacity(max_features),
+            keyframe_count: 0,
+        })
+    }
+
+    /// Builds the pyramid of `image` and tracks the live features into it. Returns how many
+    /// survived (0 for the first frame). On error the tracks are dropped.
+    pub fn track(&mut self, image: &ImageView<'_>) -> Result<usize, TrackError> {
+        if let Err(e) = self.pyr_cur.build(image) {
+            self.reset();
+            return Err(e.into());
+        }
+        if !self.has_prev {
+            std::mem::swap(&mut self.pyr_prev, &mut self.pyr_cur);
+            self.has_prev = true;
+            self.clear_tracks();
+            return Ok(0);
+        }
+        let n = self.cur_px.len();
+        self.next_px.clear();
+        self.status.clear();
+        for i in 0..n {
+            self.next_px.push(self.cur_px[i] + self.flow_px[i]);
+            self.status.push(TrackStatus::Tracked);
+        }
+        let result = self.klt.track(
+            &self.pyr_prev,
+            &self.pyr_cur,
+            &self.cur_px,
+            &mut self.next_px,
+            &mut self.status,
+            true,
+        );
+        std::mem::swap(&mut self.pyr_prev, &mut self.pyr_cur);
+        if let Err(e) = result {
+            self.clear_tracks();
+            return Err(e.into());
+        }
+        let mut kept = 0;
+        for i in 0..n {
+            let p = self.next_px[i];
+            if self.status[i] == TrackStatus::Tracked && p.x.is_finite() && p.y.is_finite() {
+                self.flow_px[kept] = p - self.cur_px[i];
+                self.cur_px[kept] = p;
+                self.kf_px[kept] = self.kf_px[i];
+                kept += 1;
+            }
+        }
+        self.cur_px.truncate(kept);
+        self.kf_px.truncate(kept);
+        self.flow_px.truncate(kept);
+        Ok(kept)
+    }
+
+    /// Drops every track and forgets the previous frame (re-initialization).
+    pub fn reset(&mut self) {
+        self.has_prev = false;
+        self.clear_tracks();
+    }
+
+    fn clear_tracks(&mut self) {
+        self.cur_px.clear();
+        self.kf_px.clear();
+        self.flow_px.clear();
+        self.keyframe_count = 0;
+    }
+
+    /// Keeps only the tracks whose `keep[i]` is true (e.g. RANSAC inliers).
+    pub fn retain(&mut self, keep: &[bool]) {
+        let mut kept = 0;
+        for i in 0..self.cur_px.len() {
+            if keep.get(i).copied().unwrap_or(false) {
+                self.cur_px[kept] = self.cur_px[i];
+                self.kf_px[kept] = self.kf_px[i];
+                self.flow_px[kept] = self.flow_px[i];
+                kept += 1;
+            }
+        }
+        self.cur_px.truncate(kept);
+        self.kf_px.truncate(kept);
+        self.flow_px.truncate(kept);
+    }
+
+    /// Makes the last frame the keyframe and tops the tracks up with new corners (paper step
+    /// 1). New tracks predict the median flow of the old ones. Returns the track count.
+    pub fn set_keyframe(&mut self) -> Result<usize, TrackError> {
+        self.kf_px.clear();
+        self.kf_px.extend_from_slice(&self.cur_px);
+        if !self.has_prev {
+            self.keyframe_count = 0;
+            return Ok(0);
+        }
+        let median_flow = median_flow(&self.flow_px);
+        if let Some(level) = self.pyr_prev.level(0) {
+            self.detector
+                .detect(level, &self.cur_px, &mut self.corners)?;
+            for c in &self.corners {
+                if self.cur_px.len() >= self.max_features {
+                    break;
+                }
+                self.cur_px.push(c.position_px);
+                self.kf_px.push(c.position_px);
+                self.flow_px.push(median_flow);
+            }
+        }
+        self.keyframe_count = self.cur_px.len();
+        Ok(self.cur_px.len())
+    }
+
+    /// Positions in the last frame.
+    pub fn current_px(&self) -> &[Point2<f32>] {
+        &self.cur_px
+    }
+
+    /// Positions of the same tracks in the keyframe.
+    pub fn keyframe_px(&self) -> &[Point2<f32>] {
+        &self.kf_px
+    }
+
+    /// Tracks alive when the keyframe was set.
+    pub fn keyframe_count(&self) -> usize {
+        self.keyframe_count
+    }
+
+    /// Whether a previous frame exists.
+    pub fn has_previous_frame(&self) -> bool {
+        self.has_prev
+    }
+}
+
+fn median_flow(flow: &[Vector2<f32>]) -> Vector2<f32> {
+    if flow.is_empty() {
+        return Vector2::zeros();
+    }
+    let mut xs: Vec<f32> = flow.iter().map(|f| f.x).collect();
+    let mut ys: Vec<f32> = flow.iter().map(|f| f.y).collect();
+    xs.sort_by(f32::total_cmp);
+    ys.sort_by(f32::total_cmp);
+    Vector2::new(xs[xs.len() / 2], ys[ys.len() / 2])
+}

@@ -1,0 +1,144 @@
+//! End-to-end tests on short rendered hops (small terrain so they stay fast in debug).
+
+use hopnav_jumper_vo::config::{JumperVoConfig, ScaleMethod};
+use hopnav_jumper_vo::eval::{evaluate, run_hop};
+use hopnav_jumper_vo::output::{FrameInput, VoStatus};
+use hopnav_jumper_vo::pipeline::JumperVo;
+use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
+use hopnav_vision::image::ImageView;
+
+fn small_sim(frames: usize, blackout: Vec<usize>) -> SimulatedHop {
+    let mut cfg = SimConfig::default();
+    cfg.world.terrain.size_x_m = 64.0;
+    cfg.world.terrain.size_y_m = 48.0;
+    cfg.hop.launch_position_m.x = -4.0;
+    cfg.num_frames = Some(frames);
+    cfg.blackout_frames = blackout;
+    simulate_hop(&cfg).unwrap()
+}
+
+#[test]
+fn rendered_hop_is_tracked_with_both_scale_methods() {
+    let sim = small_sim(50, Vec::new());
+    let default = run_hop(&sim, &JumperVoConfig::default()).unwrap();
+    let report = evaluate(&default.outputs, &sim.truth_world_from_body).unwrap();
+    println!("ballistic: {report}");
+    assert!(report.ate_sim3_m < 0.5, "{report}");
+    assert!(report.ate_se3_m < 0.6, "{report}");
+    assert!(
+        report.max_rotation_error_rad < 8f64.to_radians(),
+        "{report}"
+    );
+    assert!(
+        default
+            .outputs
+            .iter()
+            .filter(|o| o.status == VoStatus::Tracking)
+            .count()
+            > 30
+    );
+    // Touchdown is detected and the pose is then held.
+    assert!(default.outputs.iter().any(|o| o.status == VoStatus::Landed));
+    // Keyframes publish a world-frame cloud near the ground.
+    let cloud = default
+        .outputs
+        .iter()
+        .filter_map(|o| o.cloud.as_ref())
+        .find(|c| c.len() > 50)
+        .expect("a keyframe cloud");
+    assert!(cloud.iter().any(|p| p.height_above_ground_m.is_some()));
+
+    let eq4 = JumperVoConfig {
+        scale_method: ScaleMethod::PaperEq4,
+        ..JumperVoConfig::default()
+    };
+    let baseline = run_hop(&sim, &eq4).unwrap();
+    let report4 = evaluate(&baseline.outputs, &sim.truth_world_from_body).unwrap();
+    println!("eq4: {report4}");
+    assert!(report4.ate_sim3_m.is_finite() && report4.ate_sim3_m < 10.0);
+    assert!(baseline.outputs.iter().all(|o| {
+        o.world_from_body
+            .translation
+            .vector
+            .iter()
+            .all(|v| v.is_finite())
+    }));
+}
+
+#[test]
+fn black_frames_mid_flight_do_not_diverge() {
+    let sim = small_sim(30, (12..16).collect());
+    let run = run_hop(&sim, &JumperVoConfig::default()).unwrap();
+    for k in 12..16 {
+        let o = &run.outputs[k];
+        assert_eq!(o.status, VoStatus::Propagating, "frame {k}");
+        assert!(o.confidence <= 0.1);
+    }
+    // Tracking resumes after the blackout.
+    assert!(
+        run.outputs[18..]
+            .iter()
+            .any(|o| o.status == VoStatus::Tracking)
+    );
+    for (o, g) in run.outputs.iter().zip(&sim.truth_world_from_body) {
+        let err = (o.world_from_body.translation.vector - g.translation.vector).norm();
+        assert!(err < 2.0, "frame {} error {err}", o.frame_index);
+    }
+}
+
+#[test]
+fn hostile_input_never_panics() {
+    let sim = small_sim(3, Vec::new());
+    let mut vo = JumperVo::new(
+        JumperVoConfig::default(),
+        sim.camera,
+        sim.truth_world_from_body[0],
+    )
+    .unwrap();
+    let black = vec![0u8; sim.width_px * sim.height_px];
+    let tiny = vec![7u8; 16];
+    let frames: Vec<(f64, ImageView<'_>, Option<f64>)> = vec![
+        (
+            0.0,
+            ImageView::packed(&black, sim.width_px, sim.height_px).unwrap(),
+            Some(f64::NAN),
+        ),
+        (0.1, ImageView::packed(&tiny, 4, 4).unwrap(), None),
+        (
+            f64::NAN,
+            ImageView::packed(&sim.images[1], sim.width_px, sim.height_px).unwrap(),
+            Some(1.0),
+        ),
+        (
+            0.05,
+            ImageView::packed(&sim.images[1], sim.width_px, sim.height_px).unwrap(),
+            Some(f64::INFINITY),
+        ),
+        (
+            0.2,
+            ImageView::packed(&sim.images[2], sim.width_px, sim.height_px).unwrap(),
+            Some(1e300),
+        ),
+        (
+            0.3,
+            ImageView::packed(&black, sim.width_px, sim.height_px).unwrap(),
+            None,
+        ),
+    ];
+    for (k, (t, image, alt)) in frames.into_iter().enumerate() {
+        let out = vo.process_frame(FrameInput {
+            frame_index: k as u64,
+            t_s: t,
+            image,
+            altimeter_m: alt,
+        });
+        assert!(
+            out.world_from_body
+                .translation
+                .vector
+                .iter()
+                .all(|v| v.is_finite())
+        );
+        assert!((0.0..=1.0).contains(&out.confidence));
+    }
+}

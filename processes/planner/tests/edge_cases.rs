@@ -2,8 +2,6 @@
 
 mod common;
 
-use std::time::{Duration, Instant};
-
 use common::{assert_valid_path, grid_from_rows};
 use hopnav_planner::cost::path_cost;
 use hopnav_planner::{
@@ -108,11 +106,10 @@ fn enclosed_goal_on_a_large_grid_is_unreachable_without_hanging() {
         }
     }
     let mut planner = DStarLite::new(grid, Cell::new(3, 3), goal).expect("planner");
-    let began = Instant::now();
     assert_eq!(planner.compute_shortest_path(), Err(PlanError::Unreachable));
-    // The search exhausts the goal's pocket only (backwards search), so it is instant.
+    // The search exhausts the goal's pocket only (backwards search): a bounded amount of
+    // work, asserted as expansions rather than time (timing lives in benchmarks).
     assert!(planner.counters().expansions < 100);
-    assert!(began.elapsed() < Duration::from_secs(5));
     // Repeating the call is stable.
     assert_eq!(planner.compute_shortest_path(), Err(PlanError::Unreachable));
 }

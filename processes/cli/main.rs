@@ -4,6 +4,7 @@
 mod bench_cmd;
 mod eval_cmd;
 mod launch_cmd;
+mod plan_cmd;
 mod registry;
 mod run_cmd;
 
@@ -29,6 +30,9 @@ enum Command {
     /// Benchmarks.
     #[command(subcommand)]
     Bench(bench_cmd::BenchCommand),
+    /// D* Lite on MovingAI maps: solve scenarios, or reveal the map as the agent moves and
+    /// compare with repeated A* (--dynamic R).
+    Plan(plan_cmd::PlanArgs),
     /// Accuracy evaluations against ground truth.
     #[command(subcommand)]
     Eval(eval_cmd::EvalCommand),
@@ -44,5 +48,6 @@ fn main() -> ExitCode {
         Command::Run(args) => run_cmd::run(args),
         Command::Bench(command) => bench_cmd::run(command),
         Command::Eval(command) => eval_cmd::run(command),
+        Command::Plan(args) => plan_cmd::run(args),
     }
 }

@@ -27,7 +27,7 @@ fn export(out: &Path, name: &str, frames: &str) -> std::path::PathBuf {
     assert!(output.status.success(), "{stderr}");
     let report = report(out, &run);
     assert_eq!(report["outcome"], "completed");
-    for name in ["physics", "camera", "recorder"] {
+    for name in ["physics", "camera", "jumper_vo", "recorder"] {
         let process = process(&report, name);
         assert_eq!(process["rejected_samples"], 0, "{name}");
         assert_eq!(process["restarts"], 0, "{name}");
@@ -51,7 +51,8 @@ fn lockstep_world_run_exports_a_complete_reproducible_dataset() {
         let index = std::fs::read_to_string(first.join(stream).join("index.csv")).expect("index");
         assert_eq!(index.lines().next(), Some("frame,t_s,file"));
         assert_eq!(index.lines().count(), 26, "{stream}");
-        assert!(index.contains("24,2.400,000024.pgm"), "{stream}: {index}");
+        // Frame k shows the state at the end of its physics step: t = (k + 1) · 0.1 s.
+        assert!(index.contains("24,2.500,000024.pgm"), "{stream}: {index}");
         let header = std::fs::read(&pgms[0]).expect("pgm");
         let expected: &[u8] = if stream == "jumper_cam" {
             b"P5\n320 320\n255\n"
@@ -84,6 +85,32 @@ fn lockstep_world_run_exports_a_complete_reproducible_dataset() {
     assert!((cameras["jumper"]["fx_px"].as_f64().unwrap() - 386.274).abs() < 0.01);
     assert!((cameras["rover_stereo"]["baseline_m"].as_f64().unwrap() - 0.2).abs() < 1e-12);
 
+    // The jumper VO published a pose for every frame after the launch, close to the truth at
+    // the start (it starts from the commanded launch, not from ground truth).
+    let estimate = std::fs::read_to_string(first.join("estimate_jumper_vo.tum")).expect("estimate");
+    let estimates: Vec<&str> = estimate
+        .lines()
+        .filter(|line| !line.starts_with('#'))
+        .collect();
+    assert_eq!(estimates.len(), 25, "{estimate}");
+    let position = |line: &str| -> Vec<f64> {
+        line.split_whitespace()
+            .skip(1)
+            .take(3)
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let start_error: f64 = position(estimates[0])
+        .iter()
+        .zip(position(lines[0]))
+        .map(|(e, t)| (e - t).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(
+        start_error < 0.05,
+        "VO starts at the commanded launch: {start_error} m off"
+    );
+
     // The same config in lockstep gives bitwise-identical images, truth and sensors.
     let second = export(&out, "world-b", "25");
     for relative in [
@@ -95,6 +122,7 @@ fn lockstep_world_run_exports_a_complete_reproducible_dataset() {
         "groundtruth_rover.tum",
         "altimeter.csv",
         "imu.csv",
+        "estimate_jumper_vo.tum",
     ] {
         let a = std::fs::read(first.join(relative)).expect("first");
         let b = std::fs::read(second.join(relative)).expect("second");

@@ -87,6 +87,8 @@ pub const PATH: TopicSpec = TopicSpec::fixed("hopnav/planner/path", 1, 2);
 pub const DRIVE_COMMAND: TopicSpec = TopicSpec::fixed("hopnav/planner/drive", 1, 4);
 /// planner → physics: jump request.
 pub const JUMP_REQUEST: TopicSpec = TopicSpec::fixed("hopnav/planner/jump", 1, 4);
+/// physics → jumper VO: a hop was launched (commanded attitude and velocity).
+pub const HOP_LAUNCH: TopicSpec = TopicSpec::fixed("hopnav/physics/hop_launch", 1, 4);
 /// supervisor → all: launch-wide control.
 pub const CONTROL: TopicSpec = TopicSpec::fixed("hopnav/control", 1, 4);
 
@@ -112,6 +114,7 @@ mod tests {
             &PATH,
             &DRIVE_COMMAND,
             &JUMP_REQUEST,
+            &HOP_LAUNCH,
             &CONTROL,
         ];
         let mut names: Vec<_> = all.iter().map(|spec| spec.name.clone()).collect();

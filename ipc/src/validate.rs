@@ -6,8 +6,9 @@
 
 use crate::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
-    DriveCommand, FeaturePoint, FrameTick, Heartbeat, ImageHeader, ImuSample, JumpRequest,
-    MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot, SampleStamp,
+    DriveCommand, FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader, ImuSample,
+    JumpRequest, MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot,
+    SampleStamp,
 };
 
 /// Why a sample was rejected.
@@ -168,6 +169,12 @@ stamped!(DriveCommand, |command| {
 stamped!(JumpRequest, |request| {
     finite("target_m", &request.target_m)
 });
+stamped!(HopLaunch, |launch| {
+    if !launch.world_from_body.is_valid() {
+        return Err(Rejection::NonFinite("world_from_body"));
+    }
+    finite("velocity_mps", &launch.velocity_mps)
+});
 stamped!(Control, |control| {
     known("kind", control.kind, ControlKind::from_code)
 });
@@ -184,6 +191,9 @@ stamped!(ImageHeader, |header| {
             header.baseline_m,
         ],
     )?;
+    if !header.body_from_camera.is_valid() {
+        return Err(Rejection::NonFinite("body_from_camera"));
+    }
     if header.width_px == 0 || header.height_px == 0 {
         return Err(Rejection::BadDimensions("width or height is zero"));
     }

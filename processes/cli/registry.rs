@@ -11,6 +11,10 @@ pub const PROCESSES: &[(&str, Entry)] = &[
     ("recorder", run_process::<hopnav_recorder::Recorder>),
     ("camera", run_process::<hopnav_camera::CameraProcess>),
     ("physics", run_process::<hopnav_physics::PhysicsProcess>),
+    (
+        "jumper_vo",
+        run_process::<hopnav_jumper_vo::process::JumperVoProcess>,
+    ),
 ];
 
 /// A process library's config table and its validator.
@@ -26,6 +30,9 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
     }),
     ("physics", |config| {
         hopnav_physics::physics_section(config).map(|_| ())
+    }),
+    ("jumper_vo", |config| {
+        hopnav_jumper_vo::process::jumper_vo_section(config).map(|_| ())
     }),
 ];
 

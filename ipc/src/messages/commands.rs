@@ -36,6 +36,27 @@ pub struct JumpRequest {
     pub request_id: u64,
 }
 
+/// physics → jumper VO: the jumper launched a hop. Everything here is what the robot itself
+/// commanded (its launch mechanism's attitude and velocity) and where it knows it stands: the
+/// mission start for the first hop, its own estimate after that. Not ground truth.
+#[repr(C)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, ZeroCopySend)]
+#[type_name("hopnav::HopLaunch")]
+pub struct HopLaunch {
+    /// Frame identity and timing of the frame in which the launch happened.
+    pub stamp: SampleStamp,
+    /// `world_from_body` at the launch instant: commanded attitude at the launch point.
+    pub world_from_body: super::Pose3,
+    /// Commanded launch velocity in the world frame, m/s.
+    pub velocity_mps: Vec3,
+    /// Simulated time of the launch instant, nanoseconds since mission start.
+    pub launch_time_ns: u64,
+    /// 1-based hop number.
+    pub hop_index: u32,
+    /// 1 when the launch position is the mission's known start point (first hop).
+    pub position_known: u32,
+}
+
 coded_enum! {
     /// Launch-wide control requests.
     ControlKind {
@@ -62,3 +83,4 @@ pub struct Control {
 const _: () = assert!(size_of::<DriveCommand>() == 64);
 const _: () = assert!(size_of::<JumpRequest>() == 64);
 const _: () = assert!(size_of::<Control>() == 40);
+const _: () = assert!(size_of::<HopLaunch>() == 128);

@@ -36,6 +36,8 @@ pub struct ImageHeader {
     pub stamp: SampleStamp,
     /// Intrinsics shared by all views in the sample.
     pub intrinsics: CameraIntrinsics,
+    /// `body_from_camera` of the (left) camera on its robot: the mount, known onboard.
+    pub body_from_camera: super::Pose3,
     /// Stereo baseline along camera x, metres (0 for mono).
     pub baseline_m: f64,
     /// Time the producer spent drawing or filling the pixels, nanoseconds.
@@ -68,4 +70,4 @@ impl ImageHeader {
 }
 
 const _: () = assert!(size_of::<CameraIntrinsics>() == 32);
-const _: () = assert!(size_of::<ImageHeader>() == 104);
+const _: () = assert!(size_of::<ImageHeader>() == 160);

@@ -47,14 +47,24 @@ fn intrinsics(camera: &PinholeCamera) -> CameraIntrinsics {
     }
 }
 
+fn pose3(isometry: &Isometry3<f64>) -> Pose3 {
+    let q = isometry.rotation.coords;
+    Pose3 {
+        position_m: isometry.translation.vector.into(),
+        orientation_xyzw: [q.x, q.y, q.z, q.w],
+    }
+}
+
 fn header(
     camera: &PinholeCamera,
+    body_from_camera: &Isometry3<f64>,
     robot: Robot,
     view_count: u32,
     states: &BodyStates,
 ) -> ImageHeader {
     let mut header = ImageHeader {
         intrinsics: intrinsics(camera),
+        body_from_camera: pose3(body_from_camera),
         width_px: camera.width_px,
         height_px: camera.height_px,
         stride_bytes: camera.width_px,
@@ -128,6 +138,7 @@ impl Process for CameraProcess {
         let world_from_jumper_camera =
             isometry(&states.jumper.world_from_body) * self.jumper_body_from_camera;
         let camera = *self.jumper_renderer.camera();
+        let jumper_mount = self.jumper_body_from_camera;
         let renderer = &mut self.jumper_renderer;
         let scene = &self.scene;
         let len = camera.width_px as usize * camera.height_px as usize;
@@ -140,13 +151,14 @@ impl Process for CameraProcess {
                 pixels,
                 camera.width_px as usize,
             )?;
-            *image_header = header(&camera, Robot::Jumper, 1, &states);
+            *image_header = header(&camera, &jumper_mount, Robot::Jumper, 1, &states);
             image_header.fill_time_ns = monotonic_now_ns().saturating_sub(started_ns);
             Ok::<(), hopnav_world::RenderError>(())
         })?;
 
         let world_from_left = isometry(&states.rover.world_from_body) * self.rover_body_from_left;
         let camera = *self.rover_renderer.camera();
+        let rover_mount = self.rover_body_from_left;
         let renderer = &mut self.rover_renderer;
         let view_len = camera.width_px as usize * camera.height_px as usize;
         let baseline_m = self.rover_baseline_m;
@@ -163,7 +175,7 @@ impl Process for CameraProcess {
                     right,
                     camera.width_px as usize,
                 )?;
-                *image_header = header(&camera, Robot::Rover, 2, &states);
+                *image_header = header(&camera, &rover_mount, Robot::Rover, 2, &states);
                 image_header.baseline_m = baseline_m;
                 image_header.fill_time_ns = monotonic_now_ns().saturating_sub(started_ns);
                 Ok::<(), hopnav_world::RenderError>(())

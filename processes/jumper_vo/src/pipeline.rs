@@ -89,13 +89,33 @@ pub struct JumperVo {
 }
 
 impl JumperVo {
-    /// Validates `config` and allocates the front end for `camera`.
+    /// Validates `config` and allocates the front end for `camera`, mounted as the config's
+    /// `mount_pitch_down_rad` and `camera_offset_body_m` say.
     pub fn new(
         config: JumperVoConfig,
         camera: PinholeCamera,
         initial_world_from_body: Isometry3<f64>,
     ) -> Result<Self, VoError> {
+        let [ox, oy, oz] = config.camera_offset_body_m;
+        let mount = body_from_camera(config.mount_pitch_down_rad, &Vector3::new(ox, oy, oz));
+        Self::with_mount(config, camera, mount, initial_world_from_body)
+    }
+
+    /// Like [`Self::new`] with an explicit `body_from_camera` (e.g. from the image header).
+    pub fn with_mount(
+        config: JumperVoConfig,
+        camera: PinholeCamera,
+        body_from_camera: Isometry3<f64>,
+        initial_world_from_body: Isometry3<f64>,
+    ) -> Result<Self, VoError> {
         config.validate()?;
+        if !body_from_camera
+            .to_homogeneous()
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Err(VoError::BadInitialPose);
+        }
         if !initial_world_from_body
             .to_homogeneous()
             .iter()
@@ -115,9 +135,6 @@ impl JumperVo {
             SolverChoice::FivePoint => EssentialSolver::FivePoint,
             SolverChoice::EightPoint => EssentialSolver::EightPoint,
         };
-        let [ox, oy, oz] = config.camera_offset_body_m;
-        let body_from_camera =
-            body_from_camera(config.mount_pitch_down_rad, &Vector3::new(ox, oy, oz));
         let n = config.max_features;
         let mut vo = Self {
             estimator: TwoViewEstimator::new(tv, n),
@@ -190,6 +207,11 @@ impl JumperVo {
     /// The ballistic launch-velocity fit (diagnostics).
     pub fn ballistic_fit(&self) -> &BallisticFit {
         &self.fit
+    }
+
+    /// The last estimated `world_from_body` (where a new hop starts from).
+    pub fn last_world_from_body(&self) -> Isometry3<f64> {
+        self.last_world_from_body
     }
 
     /// `body_from_camera` of the mount.

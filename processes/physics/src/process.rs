@@ -79,6 +79,8 @@ pub struct PhysicsProcess {
     drive_commands: Subscriber<msg::DriveCommand>,
     jump_requests: Subscriber<msg::JumpRequest>,
     body_states: Publisher<msg::BodyStates>,
+    hop_launches: Publisher<msg::HopLaunch>,
+    hops_announced: u32,
     altimeter: Publisher<msg::AltimeterSample>,
     imu: Publisher<msg::ImuSample>,
     altimeter_sigma_m: f64,
@@ -98,6 +100,62 @@ fn body_state(state: &BodyState) -> msg::BodyState {
     }
 }
 
+fn seconds_to_ns(seconds: f64) -> u64 {
+    (seconds.max(0.0) * 1e9).round() as u64
+}
+
+impl PhysicsProcess {
+    /// Publishes what the jumper commanded when a new hop launched this frame: its launch
+    /// attitude and velocity, and for the first hop the mission's known start point.
+    fn announce_hop(
+        &mut self,
+        outputs: &crate::FrameOutputs,
+        stamp: SampleStamp,
+    ) -> Result<(), PhysicsProcessError> {
+        let status = &outputs.jumper_status;
+        let Some(hop) = status.current_hop else {
+            return Ok(());
+        };
+        if status.hop_count <= self.hops_announced {
+            return Ok(());
+        }
+        self.hops_announced = status.hop_count;
+        let (sin_heading, cos_heading) = (hop.heading_rad / 2.0).sin_cos();
+        let (sin_pitch, cos_pitch) = (-hop.launch_angle_rad / 2.0).sin_cos();
+        // yaw(heading) · pitch(−angle): the attitude physics sets before the launch impulse.
+        let orientation_xyzw = [
+            -sin_heading * sin_pitch,
+            cos_heading * sin_pitch,
+            cos_pitch * sin_heading,
+            cos_heading * cos_pitch,
+        ];
+        let (sin_angle, cos_angle) = hop.launch_angle_rad.sin_cos();
+        let speed = hop.launch_speed_mps;
+        let launch_time_ns = seconds_to_ns(outputs.sim_time_s - hop.flight_time_s);
+        let first_hop = hop.index == 1;
+        self.hop_launches.send_with(|launch| {
+            launch.stamp = stamp;
+            launch.world_from_body = Pose3 {
+                position_m: if first_hop {
+                    hop.launch_position_m
+                } else {
+                    [0.0; 3]
+                },
+                orientation_xyzw,
+            };
+            launch.velocity_mps = [
+                speed * cos_angle * hop.heading_rad.cos(),
+                speed * cos_angle * hop.heading_rad.sin(),
+                speed * sin_angle,
+            ];
+            launch.launch_time_ns = launch_time_ns;
+            launch.hop_index = hop.index;
+            launch.position_known = u32::from(first_hop);
+        })?;
+        Ok(())
+    }
+}
+
 impl Process for PhysicsProcess {
     type Error = PhysicsProcessError;
 
@@ -113,6 +171,8 @@ impl Process for PhysicsProcess {
             drive_commands: Subscriber::open(node, &topics::DRIVE_COMMAND)?,
             jump_requests: Subscriber::open(node, &topics::JUMP_REQUEST)?,
             body_states: Publisher::open(node, &topics::BODY_STATES)?,
+            hop_launches: Publisher::open(node, &topics::HOP_LAUNCH)?,
+            hops_announced: 0,
             altimeter: Publisher::open(node, &topics::ALTIMETER)?,
             imu: Publisher::open(node, &topics::IMU)?,
             last_jump_request: None,
@@ -141,11 +201,13 @@ impl Process for PhysicsProcess {
             });
         }
         let outputs = self.sim.step_frame(&inputs);
+        // The state is the one at the end of the frame's substeps: stamp that instant.
         let stamp = SampleStamp {
             frame_index: tick.stamp.frame_index,
-            sim_time_ns: tick.stamp.sim_time_ns,
+            sim_time_ns: seconds_to_ns(outputs.sim_time_s),
             ..SampleStamp::default()
         };
+        self.announce_hop(&outputs, stamp)?;
         self.body_states.send_with(|states| {
             states.stamp = stamp;
             states.jumper = body_state(&outputs.jumper);

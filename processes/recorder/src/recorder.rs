@@ -2,7 +2,9 @@
 
 use std::path::PathBuf;
 
-use hopnav_ipc::messages::{AltimeterSample, BodyStates, FrameTick, ImageHeader, ImuSample};
+use hopnav_ipc::messages::{
+    AltimeterSample, BodyStates, FrameTick, ImageHeader, ImuSample, PoseEstimate,
+};
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
@@ -17,6 +19,7 @@ pub struct Recorder {
     body_states: Subscriber<BodyStates>,
     altimeter: Subscriber<AltimeterSample>,
     imu: Subscriber<ImuSample>,
+    jumper_poses: Subscriber<PoseEstimate>,
     jumper_images: SliceSubscriber<ImageHeader>,
     rover_stereo: SliceSubscriber<ImageHeader>,
     jumper_stream: ImageStream,
@@ -24,6 +27,7 @@ pub struct Recorder {
     rover_right: ImageStream,
     truth_jumper: TextFile,
     truth_rover: TextFile,
+    estimate_jumper: TextFile,
     altimeter_csv: TextFile,
     imu_csv: TextFile,
     cameras: serde_json::Map<String, serde_json::Value>,
@@ -41,6 +45,7 @@ impl Recorder {
             body_states: Subscriber::open(node, &topics::BODY_STATES)?,
             altimeter: Subscriber::open(node, &topics::ALTIMETER)?,
             imu: Subscriber::open(node, &topics::IMU)?,
+            jumper_poses: Subscriber::open(node, &topics::JUMPER_POSE)?,
             jumper_images: SliceSubscriber::open(node, &topics::JUMPER_IMAGE)?,
             rover_stereo: SliceSubscriber::open(node, &topics::ROVER_STEREO)?,
             jumper_stream: ImageStream::create(dir.join("jumper_cam"))?,
@@ -53,6 +58,10 @@ impl Recorder {
             truth_rover: TextFile::create(
                 dir.join("groundtruth_rover.tum"),
                 "# t tx ty tz qx qy qz qw",
+            )?,
+            estimate_jumper: TextFile::create(
+                dir.join("estimate_jumper_vo.tum"),
+                "# jumper_vo estimate: t tx ty tz qx qy qz qw",
             )?,
             altimeter_csv: TextFile::create(
                 dir.join("altimeter.csv"),
@@ -93,6 +102,7 @@ impl Recorder {
         self.rover_right.flush()?;
         self.truth_jumper.flush()?;
         self.truth_rover.flush()?;
+        self.estimate_jumper.flush()?;
         self.altimeter_csv.flush()?;
         self.imu_csv.flush()
     }
@@ -130,6 +140,17 @@ impl Process for Recorder {
         while let Some(sample) = self.imu.receive()? {
             write_imu(&mut self.imu_csv, &sample)?;
         }
+        while let Some(pose) = self.jumper_poses.receive()? {
+            let state = hopnav_ipc::messages::BodyState {
+                world_from_body: pose.world_from_body,
+                ..Default::default()
+            };
+            write_truth(
+                &mut self.estimate_jumper,
+                pose.stamp.sim_time_ns as f64 * 1e-9,
+                &state,
+            )?;
+        }
         while let Some(image) = self.jumper_images.receive()? {
             let header = *image.header();
             self.jumper_stream.write(&header, image.elements(), 0)?;
@@ -151,6 +172,7 @@ impl Process for Recorder {
         self.body_states.rejected().total()
             + self.altimeter.rejected().total()
             + self.imu.rejected().total()
+            + self.jumper_poses.rejected().total()
             + self.jumper_images.rejected().total()
             + self.rover_stereo.rejected().total()
     }

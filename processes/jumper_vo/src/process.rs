@@ -1,0 +1,234 @@
+//! The `jumper_vo` process: runs the pipeline on the jumper's camera stream and publishes the
+//! pose every frame and a world-frame feature cloud at keyframes.
+//!
+//! It starts a hop when physics announces a launch (`HopLaunch`: the commanded attitude and
+//! velocity, and for the first hop the mission's start point); it never reads ground truth.
+//! Intrinsics and the camera mount come from the image header.
+
+use hopnav_config::{ConfigError, HopnavConfig, parse_section};
+use hopnav_ipc::messages::{
+    AltimeterSample, CloudHeader, FeaturePoint, FrameTick, HopLaunch, ImageHeader, Pose3,
+    PoseEstimate, Robot,
+};
+use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::topics;
+use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber, Subscriber};
+use hopnav_vision::camera::PinholeCamera;
+use hopnav_vision::image::ImageView;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+
+use crate::config::JumperVoConfig;
+use crate::output::FrameInput;
+use crate::pipeline::JumperVo;
+
+/// Why the jumper VO process failed.
+#[derive(Debug, thiserror::Error)]
+pub enum JumperVoProcessError {
+    /// The configuration could not be loaded or is invalid.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A port could not be opened.
+    #[error(transparent)]
+    Open(#[from] hopnav_ipc::transport::OpenError),
+    /// A sample could not be sent.
+    #[error(transparent)]
+    Send(#[from] hopnav_ipc::transport::SendError),
+    /// A sample could not be received.
+    #[error(transparent)]
+    Receive(#[from] hopnav_ipc::transport::ReceiveError),
+}
+
+/// Parses and validates `[jumper_vo]`; errors name `jumper_vo.<key>`.
+pub fn jumper_vo_section(config: &HopnavConfig) -> Result<JumperVoConfig, ConfigError> {
+    let section: JumperVoConfig = parse_section(config, "jumper_vo")?;
+    section.validate().map_err(|error| ConfigError::Schema {
+        key: "jumper_vo".into(),
+        message: error.to_string(),
+    })?;
+    Ok(section)
+}
+
+fn isometry(pose: &Pose3) -> Isometry3<f64> {
+    let [x, y, z, w] = pose.orientation_xyzw;
+    Isometry3::from_parts(
+        Translation3::new(pose.position_m[0], pose.position_m[1], pose.position_m[2]),
+        UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
+    )
+}
+
+fn pose3(isometry: &Isometry3<f64>) -> Pose3 {
+    let q = isometry.rotation.coords;
+    Pose3 {
+        position_m: isometry.translation.vector.into(),
+        orientation_xyzw: [q.x, q.y, q.z, q.w],
+    }
+}
+
+/// Runs the jumper VO once per frame.
+pub struct JumperVoProcess {
+    config: JumperVoConfig,
+    vo: Option<JumperVo>,
+    pending_launch: Option<HopLaunch>,
+    last_hop_index: u32,
+    images: SliceSubscriber<ImageHeader>,
+    altimeter: Subscriber<AltimeterSample>,
+    launches: Subscriber<HopLaunch>,
+    poses: hopnav_ipc::transport::Publisher<PoseEstimate>,
+    clouds: SlicePublisher<CloudHeader>,
+    keyframes: u64,
+}
+
+impl JumperVoProcess {
+    /// Starts the pipeline (or a new hop) from a launch, at the time of the first image after it.
+    fn start_hop(&mut self, launch: &HopLaunch, header: &ImageHeader) {
+        let gravity_mps2 = self.config.gravity_mps2;
+        let dt_s = (header.stamp.sim_time_ns as f64 - launch.launch_time_ns as f64) * 1e-9;
+        let dt_s = dt_s.clamp(0.0, 1.0);
+        let attitude = isometry(&launch.world_from_body).rotation;
+        let launch_position = match (&self.vo, launch.position_known) {
+            (_, 1) => Vector3::from(launch.world_from_body.position_m),
+            // Later hops start where the VO believes the jumper landed.
+            (Some(vo), _) => vo.last_world_from_body().translation.vector,
+            (None, _) => return, // no known position: wait for one
+        };
+        let velocity = Vector3::from(launch.velocity_mps);
+        // The first image comes dt after the launch: propagate the commanded ballistic launch.
+        let position =
+            launch_position + velocity * dt_s - Vector3::z() * (0.5 * gravity_mps2 * dt_s * dt_s);
+        let velocity_at_image = velocity - Vector3::z() * gravity_mps2 * dt_s;
+        let mut config = self.config.clone();
+        config.launch_speed_mps = velocity_at_image.norm();
+        config.launch_elevation_rad =
+            (velocity_at_image.z / velocity_at_image.norm().max(1e-9)).asin();
+        let initial = Isometry3::from_parts(Translation3::from(position), attitude);
+        let intrinsics = &header.intrinsics;
+        let Ok(camera) = PinholeCamera::new(
+            header.width_px,
+            header.height_px,
+            intrinsics.fx_px,
+            intrinsics.fy_px,
+            intrinsics.cx_px,
+            intrinsics.cy_px,
+        ) else {
+            return;
+        };
+        let mount = isometry(&header.body_from_camera);
+        if let Ok(vo) = JumperVo::with_mount(config, camera, mount, initial) {
+            self.vo = Some(vo);
+            self.last_hop_index = launch.hop_index;
+        }
+    }
+}
+
+impl Process for JumperVoProcess {
+    type Error = JumperVoProcessError;
+
+    fn new(context: &ProcessContext) -> Result<Self, JumperVoProcessError> {
+        let config = hopnav_config::load_file(&context.identity.config_path)?;
+        let section = jumper_vo_section(&config)?;
+        let node = &context.node;
+        Ok(Self {
+            clouds: SlicePublisher::open(node, &topics::JUMPER_CLOUD, section.max_features * 2)?,
+            config: section,
+            vo: None,
+            pending_launch: None,
+            last_hop_index: 0,
+            images: SliceSubscriber::open(node, &topics::JUMPER_IMAGE)?,
+            altimeter: Subscriber::open(node, &topics::ALTIMETER)?,
+            launches: Subscriber::open(node, &topics::HOP_LAUNCH)?,
+            poses: hopnav_ipc::transport::Publisher::open(node, &topics::JUMPER_POSE)?,
+            keyframes: 0,
+        })
+    }
+
+    fn step(
+        &mut self,
+        _context: &ProcessContext,
+        tick: &FrameTick,
+    ) -> Result<(), JumperVoProcessError> {
+        if let Some(launch) = self.launches.receive_latest()?
+            && launch.hop_index > self.last_hop_index
+        {
+            self.pending_launch = Some(launch);
+        }
+        let altitude_m = self
+            .altimeter
+            .receive_latest()?
+            .map(|sample| sample.altitude_m);
+        let Some(image) = self.images.receive_latest()? else {
+            return Ok(()); // camera skipped this frame; the next one bridges the gap
+        };
+        let header = *image.header();
+        if let Some(launch) = self.pending_launch.take() {
+            self.start_hop(&launch, &header);
+        }
+        let Some(vo) = self.vo.as_mut() else {
+            return Ok(()); // not launched yet: nothing to estimate
+        };
+        let Ok(view) = ImageView::new(
+            image.elements(),
+            header.width_px as usize,
+            header.height_px as usize,
+            header.stride_bytes as usize,
+        ) else {
+            return Ok(());
+        };
+        let output = vo.process_frame(FrameInput {
+            frame_index: tick.stamp.frame_index,
+            t_s: header.stamp.sim_time_ns as f64 * 1e-9,
+            image: view,
+            altimeter_m: altitude_m,
+        });
+        drop(image);
+        let world_from_body = pose3(&output.world_from_body);
+        let stamp = header.stamp;
+        self.poses.send_with(|pose| {
+            pose.stamp.frame_index = stamp.frame_index;
+            pose.stamp.sim_time_ns = stamp.sim_time_ns;
+            pose.world_from_body = world_from_body;
+            pose.confidence = output.confidence;
+            pose.scale = output.scale.unwrap_or(0.0);
+            pose.tracked_features = output.tracked_features as u32;
+            pose.robot = Robot::Jumper.code();
+            pose.is_keyframe = u32::from(output.is_keyframe);
+        })?;
+        if let Some(cloud) = &output.cloud {
+            let len = cloud.len().min(self.clouds.max_len());
+            self.keyframes += 1;
+            let keyframe_index = self.keyframes;
+            self.clouds.send_from_fn(
+                len,
+                |cloud_header| {
+                    cloud_header.stamp.frame_index = stamp.frame_index;
+                    cloud_header.stamp.sim_time_ns = stamp.sim_time_ns;
+                    cloud_header.world_from_camera = world_from_body;
+                    cloud_header.point_count = len as u32;
+                    cloud_header.robot = Robot::Jumper.code();
+                    cloud_header.keyframe_index = keyframe_index;
+                },
+                |index| {
+                    let point = &cloud[index];
+                    FeaturePoint {
+                        position_m: [
+                            point.position_m.x as f32,
+                            point.position_m.y as f32,
+                            point.position_m.z as f32,
+                        ],
+                        height_above_ground_m: point
+                            .height_above_ground_m
+                            .map_or(f32::NAN, |h| h as f32),
+                        track_id: index as u32,
+                        depth_sigma_m: 0.0,
+                    }
+                },
+            )?;
+        }
+        Ok(())
+    }
+
+    fn rejected_samples(&self) -> u64 {
+        self.images.rejected().total()
+            + self.altimeter.rejected().total()
+            + self.launches.rejected().total()
+    }
+}

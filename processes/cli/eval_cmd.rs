@@ -25,11 +25,18 @@ pub struct VoArgs {
     /// Folder for TUM files, the PNGs and eval_vo.json.
     #[arg(long, default_value = "runs/eval-vo")]
     out: PathBuf,
+    /// Evaluate a recorded launch instead (a folder written by `hopnav launch
+    /// --export-dataset DIR`): the live jumper_vo estimate against the physics ground truth.
+    #[arg(long, value_name = "DIR")]
+    dataset: Option<PathBuf>,
 }
 
 pub fn run(command: EvalCommand) -> ExitCode {
     match command {
-        EvalCommand::Vo(args) => match vo(&args) {
+        EvalCommand::Vo(args) => match match &args.dataset {
+            Some(dataset) => vo_dataset(dataset, &args.out),
+            None => vo(&args),
+        } {
             Ok(()) => ExitCode::SUCCESS,
             Err(error) => {
                 eprintln!("\nerror: {error}");
@@ -178,5 +185,62 @@ fn vo(args: &VoArgs) -> Result<(), String> {
         "wrote {}/{{ballistic,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
         args.out.display()
     );
+    Ok(())
+}
+
+/// Evaluates the live `jumper_vo` estimate of a recorded launch against its ground truth.
+fn vo_dataset(dataset: &std::path::Path, out: &std::path::Path) -> Result<(), String> {
+    use hopnav_jumper_vo::eval::metrics::{ate, final_position_error_m, rpe, unaligned_rmse_m};
+    use hopnav_jumper_vo::eval::tum::read_tum;
+    let estimate = read_tum(&dataset.join("estimate_jumper_vo.tum")).map_err(|e| e.to_string())?;
+    let truth = read_tum(&dataset.join("groundtruth_jumper.tum")).map_err(|e| e.to_string())?;
+    // Pair by timestamp (both are stamped with the simulated time of the state/image).
+    let mut pairs = Vec::new();
+    for (t_s, pose) in &estimate {
+        if let Some((_, true_pose)) = truth
+            .iter()
+            .find(|(truth_t_s, _)| (truth_t_s - t_s).abs() < 1e-4)
+        {
+            pairs.push((*t_s, *pose, *true_pose));
+        }
+    }
+    if pairs.len() < 3 {
+        return Err(format!(
+            "{}: only {} estimate poses match ground-truth timestamps (need 3)",
+            dataset.display(),
+            pairs.len()
+        ));
+    }
+    let times: Vec<f64> = pairs.iter().map(|p| p.0).collect();
+    let est: Vec<_> = pairs.iter().map(|p| p.1).collect();
+    let gt: Vec<_> = pairs.iter().map(|p| p.2).collect();
+    let sim3 = ate(&est, &gt, true).ok_or("Sim(3) alignment failed")?;
+    let se3 = ate(&est, &gt, false).ok_or("SE(3) alignment failed")?;
+    let relative = rpe(&est, &gt, 1);
+    println!(
+        "jumper_vo on {} ({} frames):",
+        dataset.display(),
+        pairs.len()
+    );
+    println!(
+        "  ATE Sim(3) {:.3} m (max {:.3} m)",
+        sim3.rmse_m, sim3.max_m
+    );
+    println!("  ATE SE(3)  {:.3} m (max {:.3} m)", se3.rmse_m, se3.max_m);
+    println!("  unaligned RMSE {:.3} m", unaligned_rmse_m(&est, &gt));
+    if let Some(final_m) = final_position_error_m(&est, &gt) {
+        println!("  final position error {final_m:.3} m");
+    }
+    if let Some(relative) = relative {
+        println!(
+            "  RPE per frame {:.3} m, {:.2} deg",
+            relative.translation_rmse_m,
+            relative.rotation_rmse_rad.to_degrees()
+        );
+    }
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let png = out.join("dataset_fig5.png");
+    write_fig5_png(&png, &times, &gt, &est).map_err(|e| e.to_string())?;
+    println!("wrote {}", png.display());
     Ok(())
 }

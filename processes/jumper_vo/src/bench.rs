@@ -1,6 +1,6 @@
 //! Own-harness benchmark of [`crate::pipeline::JumperVo::process_frame`] on a rendered hop:
 //! per-frame cost p50/p99/max at 320² with up to `max_features` features (target ≤ 5 ms).
-//! Run with `cargo run --release --example bench_vo`.
+//! Run with `hopnav bench vo`.
 
 use crate::config::JumperVoConfig;
 use crate::eval::run_hop;

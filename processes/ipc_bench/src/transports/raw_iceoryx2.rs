@@ -7,7 +7,9 @@ use hopnav_ipc::IpcService;
 use hopnav_ipc::messages::ImageHeader;
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::stamp::monotonic_now_ns;
+use iceoryx2::node::Node;
 use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, WaitSetBuilder};
+use iceoryx2::service::port_factory::{event, publish_subscribe};
 
 use super::{AckListener, AckNotifier, SampleTiming};
 use crate::BenchError;
@@ -17,29 +19,42 @@ fn service_name(id: &str) -> Result<ServiceName, BenchError> {
     ServiceName::new(&format!("raw/bench/{id}/data")).map_err(|e| BenchError::transport("name", e))
 }
 
-pub(crate) fn publish(args: &PeerArgs, notify: bool) -> Result<(), BenchError> {
+/// The node and the two raw services (image slices with a header, and their events) that
+/// both peers open identically.
+struct RawEndpoint {
+    node: Node<IpcService>,
+    data: publish_subscribe::PortFactory<IpcService, [u8], ImageHeader>,
+    events: event::PortFactory<IpcService>,
+}
+
+fn open_endpoint(args: &PeerArgs, node_name: &str) -> Result<RawEndpoint, BenchError> {
     let namespace = Namespace::new(&args.id).map_err(|e| BenchError::transport("namespace", e))?;
     let node = namespace
-        .create_node("raw_pub")
+        .create_node(node_name)
         .map_err(|e| BenchError::transport("node", e))?;
     let name = service_name(&args.id)?;
-    let service = node
+    let data = node
         .service_builder(&name)
         .publish_subscribe::<[u8]>()
         .user_header::<ImageHeader>()
         .open_or_create()
         .map_err(|e| BenchError::transport("service", e))?;
-    let publisher = service
-        .publisher_builder()
-        .initial_max_slice_len(args.size_bytes)
-        .allocation_strategy(AllocationStrategy::Static)
-        .create()
-        .map_err(|e| BenchError::transport("publisher", e))?;
     let events = node
         .service_builder(&name)
         .event()
         .open_or_create()
         .map_err(|e| BenchError::transport("event service", e))?;
+    Ok(RawEndpoint { node, data, events })
+}
+
+pub(crate) fn publish(args: &PeerArgs, notify: bool) -> Result<(), BenchError> {
+    let RawEndpoint { node, data, events } = open_endpoint(args, "raw_pub")?;
+    let publisher = data
+        .publisher_builder()
+        .initial_max_slice_len(args.size_bytes)
+        .allocation_strategy(AllocationStrategy::Static)
+        .create()
+        .map_err(|e| BenchError::transport("publisher", e))?;
     let notifier = events
         .notifier_builder()
         .create()
@@ -70,26 +85,11 @@ pub(crate) fn publish(args: &PeerArgs, notify: bool) -> Result<(), BenchError> {
 }
 
 pub(crate) fn subscribe(args: &PeerArgs, poll: bool) -> Result<Vec<SampleTiming>, BenchError> {
-    let namespace = Namespace::new(&args.id).map_err(|e| BenchError::transport("namespace", e))?;
-    let node = namespace
-        .create_node("raw_sub")
-        .map_err(|e| BenchError::transport("node", e))?;
-    let name = service_name(&args.id)?;
-    let service = node
-        .service_builder(&name)
-        .publish_subscribe::<[u8]>()
-        .user_header::<ImageHeader>()
-        .open_or_create()
-        .map_err(|e| BenchError::transport("service", e))?;
-    let subscriber = service
+    let RawEndpoint { node, data, events } = open_endpoint(args, "raw_sub")?;
+    let subscriber = data
         .subscriber_builder()
         .create()
         .map_err(|e| BenchError::transport("subscriber", e))?;
-    let events = node
-        .service_builder(&name)
-        .event()
-        .open_or_create()
-        .map_err(|e| BenchError::transport("event service", e))?;
     let listener = events
         .listener_builder()
         .create()

@@ -54,6 +54,25 @@ impl Pose3 {
         let norm_sq: f64 = self.orientation_xyzw.iter().map(|q| q * q).sum();
         finite && (norm_sq - 1.0).abs() < 2e-3
     }
+
+    /// The pose as an isometry (the quaternion is renormalized).
+    pub fn to_isometry(&self) -> nalgebra::Isometry3<f64> {
+        let [x, y, z, w] = self.orientation_xyzw;
+        let [px, py, pz] = self.position_m;
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::new(px, py, pz),
+            nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z)),
+        )
+    }
+
+    /// The pose of an isometry.
+    pub fn from_isometry(isometry: &nalgebra::Isometry3<f64>) -> Self {
+        let q = isometry.rotation.coords;
+        Self {
+            position_m: isometry.translation.vector.into(),
+            orientation_xyzw: [q.x, q.y, q.z, q.w],
+        }
+    }
 }
 
 coded_enum! {

@@ -11,7 +11,7 @@ use hopnav_ipc::transport::{SlicePublisher, Subscriber};
 use hopnav_world::World;
 use hopnav_world::camera::PinholeCamera;
 use hopnav_world::raster::{RenderScene, Renderer};
-use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use nalgebra::{Isometry3, Translation3};
 
 use crate::config::check_world_section;
 use crate::{CameraError, CameraSection, body_from_camera};
@@ -30,13 +30,6 @@ pub struct CameraProcess {
     frames_without_poses: u64,
 }
 
-fn isometry(pose: &Pose3) -> Isometry3<f64> {
-    let [x, y, z, w] = pose.orientation_xyzw;
-    Isometry3::from_parts(
-        Translation3::new(pose.position_m[0], pose.position_m[1], pose.position_m[2]),
-        UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
-    )
-}
 
 fn intrinsics(camera: &PinholeCamera) -> CameraIntrinsics {
     CameraIntrinsics {
@@ -47,13 +40,6 @@ fn intrinsics(camera: &PinholeCamera) -> CameraIntrinsics {
     }
 }
 
-fn pose3(isometry: &Isometry3<f64>) -> Pose3 {
-    let q = isometry.rotation.coords;
-    Pose3 {
-        position_m: isometry.translation.vector.into(),
-        orientation_xyzw: [q.x, q.y, q.z, q.w],
-    }
-}
 
 fn header(
     camera: &PinholeCamera,
@@ -64,7 +50,7 @@ fn header(
 ) -> ImageHeader {
     let mut header = ImageHeader {
         intrinsics: intrinsics(camera),
-        body_from_camera: pose3(body_from_camera),
+        body_from_camera: Pose3::from_isometry(body_from_camera),
         width_px: camera.width_px,
         height_px: camera.height_px,
         stride_bytes: camera.width_px,
@@ -136,7 +122,7 @@ impl Process for CameraProcess {
         let noise_key = states.stamp.frame_index;
 
         let world_from_jumper_camera =
-            isometry(&states.jumper.world_from_body) * self.jumper_body_from_camera;
+            states.jumper.world_from_body.to_isometry() * self.jumper_body_from_camera;
         let camera = *self.jumper_renderer.camera();
         let jumper_mount = self.jumper_body_from_camera;
         let renderer = &mut self.jumper_renderer;
@@ -156,7 +142,7 @@ impl Process for CameraProcess {
             Ok::<(), hopnav_world::RenderError>(())
         })?;
 
-        let world_from_left = isometry(&states.rover.world_from_body) * self.rover_body_from_left;
+        let world_from_left = states.rover.world_from_body.to_isometry() * self.rover_body_from_left;
         let camera = *self.rover_renderer.camera();
         let rover_mount = self.rover_body_from_left;
         let renderer = &mut self.rover_renderer;

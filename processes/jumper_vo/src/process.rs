@@ -15,7 +15,7 @@ use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber, Subscriber};
 use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::image::ImageView;
-use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, Vector3};
 
 use crate::config::JumperVoConfig;
 use crate::output::FrameInput;
@@ -48,21 +48,7 @@ pub fn jumper_vo_section(config: &HopnavConfig) -> Result<JumperVoConfig, Config
     Ok(section)
 }
 
-fn isometry(pose: &Pose3) -> Isometry3<f64> {
-    let [x, y, z, w] = pose.orientation_xyzw;
-    Isometry3::from_parts(
-        Translation3::new(pose.position_m[0], pose.position_m[1], pose.position_m[2]),
-        UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
-    )
-}
 
-fn pose3(isometry: &Isometry3<f64>) -> Pose3 {
-    let q = isometry.rotation.coords;
-    Pose3 {
-        position_m: isometry.translation.vector.into(),
-        orientation_xyzw: [q.x, q.y, q.z, q.w],
-    }
-}
 
 /// Runs the jumper VO once per frame.
 pub struct JumperVoProcess {
@@ -84,7 +70,7 @@ impl JumperVoProcess {
         let gravity_mps2 = self.config.gravity_mps2;
         let dt_s = (header.stamp.sim_time_ns as f64 - launch.launch_time_ns as f64) * 1e-9;
         let dt_s = dt_s.clamp(0.0, 1.0);
-        let attitude = isometry(&launch.world_from_body).rotation;
+        let attitude = launch.world_from_body.to_isometry().rotation;
         let launch_position = match (&self.vo, launch.position_known) {
             (_, 1) => Vector3::from(launch.world_from_body.position_m),
             // Later hops start where the VO believes the jumper landed.
@@ -112,7 +98,7 @@ impl JumperVoProcess {
         ) else {
             return;
         };
-        let mount = isometry(&header.body_from_camera);
+        let mount = header.body_from_camera.to_isometry();
         if let Ok(vo) = JumperVo::with_mount(config, camera, mount, initial) {
             self.vo = Some(vo);
             self.last_hop_index = launch.hop_index;
@@ -180,7 +166,7 @@ impl Process for JumperVoProcess {
             altimeter_m: altitude_m,
         });
         drop(image);
-        let world_from_body = pose3(&output.world_from_body);
+        let world_from_body = Pose3::from_isometry(&output.world_from_body);
         let stamp = header.stamp;
         self.poses.send_with(|pose| {
             pose.stamp.frame_index = stamp.frame_index;

@@ -1,0 +1,2 @@
+//! Mapper (work in progress).
+#![warn(missing_docs)]

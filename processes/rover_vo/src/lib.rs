@@ -1,0 +1,2 @@
+//! Rover stereo visual odometry (work in progress).
+#![warn(missing_docs)]

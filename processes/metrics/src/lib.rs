@@ -4,5 +4,6 @@
 
 pub mod plot;
 mod summary;
+pub mod trajectory;
 
 pub use summary::LatencySummary;

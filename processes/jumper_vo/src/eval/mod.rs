@@ -4,10 +4,9 @@
 //! [`run_hop`] feeds a [`SimulatedHop`] frame by frame through [`JumperVo`] and times
 //! `process_frame`; [`evaluate`] computes the metrics.
 
-pub mod align;
-pub mod metrics;
 pub mod plot;
-pub mod tum;
+
+pub use hopnav_metrics::trajectory::{align, errors as metrics, tum};
 
 use crate::config::JumperVoConfig;
 use crate::output::{FrameInput, VoOutput, VoStatus};

@@ -20,8 +20,8 @@ use std::path::Path;
 
 pub use error::ConfigError;
 pub use schema::{
-    HopnavConfig, ProbeConfig, ProcessConfig, RecorderConfig, RestartConfig, RestartPolicy,
-    RunConfig, WatchdogConfig,
+    HopnavConfig, MissionConfig, MissionMode, ProbeConfig, ProcessConfig, RecorderConfig,
+    RestartConfig, RestartPolicy, RunConfig, WatchdogConfig,
 };
 
 /// The embedded default configuration.
@@ -90,7 +90,7 @@ pub fn check_section_names(config: &HopnavConfig, known: &[&str]) -> Result<(), 
         Some(unknown) => Err(ConfigError::Schema {
             key: unknown.clone(),
             message: format!(
-                "unknown config table (known tables: run, watchdog, restart, processes, probe, recorder, {})",
+                "unknown config table (known tables: run, watchdog, restart, processes, probe, recorder, mission, {})",
                 known.join(", ")
             ),
         }),

@@ -24,6 +24,8 @@ pub struct HopnavConfig {
     pub probe: ProbeConfig,
     /// The dataset recorder (`--export-dataset`).
     pub recorder: RecorderConfig,
+    /// What the mission is: cooperative or rover-only, and when it ends.
+    pub mission: MissionConfig,
     /// Process-specific tables, parsed by their own libraries.
     #[serde(flatten)]
     pub sections: toml::Table,
@@ -123,4 +125,34 @@ pub struct ProbeConfig {
 pub struct RecorderConfig {
     /// Output folder; required when `processes.recorder.enabled`.
     pub dir: String,
+}
+
+/// Who explores: both robots, or the rover alone (the baseline the paper compares against).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MissionMode {
+    /// The rover asks the jumper to hop ahead and map what it cannot see.
+    Cooperative,
+    /// The jumper stays put; the rover maps with its own stereo camera only.
+    RoverOnly,
+}
+
+impl MissionMode {
+    /// The name used in config files and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            MissionMode::Cooperative => "cooperative",
+            MissionMode::RoverOnly => "rover-only",
+        }
+    }
+}
+
+/// The mission: from the world scenario's start A to its goal B.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MissionConfig {
+    /// Cooperative or rover-only.
+    pub mode: MissionMode,
+    /// End the launch when the planner reports the goal reached (else run every frame).
+    pub stop_on_goal: bool,
 }

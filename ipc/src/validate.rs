@@ -7,8 +7,8 @@
 use crate::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
     DriveCommand, FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader, ImuSample,
-    JumpRequest, MapHeader, PathHeader, PathPoint, PixelFormat, PoseEstimate, ProcessState, Robot,
-    SampleStamp,
+    JumpRequest, MapHeader, MissionState, PathHeader, PathPoint, PixelFormat, PoseEstimate,
+    ProcessState, Robot, SampleStamp,
 };
 
 /// Why a sample was rejected.
@@ -223,7 +223,9 @@ stamped!(MapHeader, |header| {
     }
     Ok(())
 });
-stamped!(PathHeader, |_header| { Ok(()) });
+stamped!(PathHeader, |header| {
+    known("state", header.state, MissionState::from_code)
+});
 
 impl SliceHeader for ImageHeader {
     type Element = u8;

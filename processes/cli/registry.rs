@@ -15,6 +15,10 @@ pub const PROCESSES: &[(&str, Entry)] = &[
         "jumper_vo",
         run_process::<hopnav_jumper_vo::process::JumperVoProcess>,
     ),
+    (
+        "planner",
+        run_process::<hopnav_planner::process::PlannerProcess>,
+    ),
 ];
 
 /// A process library's config table and its validator.
@@ -33,6 +37,9 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
     }),
     ("jumper_vo", |config| {
         hopnav_jumper_vo::process::jumper_vo_section(config).map(|_| ())
+    }),
+    ("planner", |config| {
+        hopnav_planner::process::planner_section(config).map(|_| ())
     }),
 ];
 

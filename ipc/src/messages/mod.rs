@@ -24,7 +24,7 @@ pub use features::{CloudHeader, FeaturePoint};
 pub use heartbeat::{Heartbeat, NO_FRAME, ProcessState};
 pub use image::{CameraIntrinsics, ImageHeader, PixelFormat};
 pub use map::{CellClass, CellUpdate, MapHeader};
-pub use path::{PathHeader, PathPoint};
+pub use path::{MissionState, PathHeader, PathPoint};
 pub use pose::PoseEstimate;
 pub use sensors::{AltimeterSample, BodyState, BodyStates, ImuSample};
 

@@ -2,7 +2,21 @@
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::SampleStamp;
+use super::{SampleStamp, coded_enum};
+
+coded_enum! {
+    /// Where the planner's mission stands.
+    MissionState {
+        /// No map geometry or rover pose yet.
+        Waiting = 0,
+        /// A path to the goal is known and the rover follows it.
+        Driving = 1,
+        /// The rover is within the goal tolerance and holds.
+        GoalReached = 2,
+        /// No path to the goal exists on the known map.
+        Unreachable = 3,
+    }
+}
 
 /// User header of a path sample.
 #[repr(C)]
@@ -17,10 +31,16 @@ pub struct PathHeader {
     pub replan_count: u64,
     /// Node expansions of the last replan.
     pub expansions: u64,
+    /// Node expansions of all replans so far.
+    pub total_expansions: u64,
     /// Points in the slice.
     pub point_count: u32,
     /// 1 if the goal is reachable on the known map.
     pub goal_reachable: u32,
+    /// A [`MissionState`] code.
+    pub state: u32,
+    /// Jump requests sent to the jumper so far.
+    pub jump_requests: u32,
 }
 
 /// One waypoint in the world frame.
@@ -34,5 +54,5 @@ pub struct PathPoint {
     pub y_m: f64,
 }
 
-const _: () = assert!(size_of::<PathHeader>() == 64);
+const _: () = assert!(size_of::<PathHeader>() == 80);
 const _: () = assert!(size_of::<PathPoint>() == 16);

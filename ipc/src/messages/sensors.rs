@@ -18,8 +18,8 @@ pub struct BodyState {
     pub angular_velocity_radps: Vec3,
     /// 1 while the body touches the ground, else 0.
     pub in_contact: u32,
-    /// Reserved, zero.
-    pub reserved: u32,
+    /// Collisions so far with rocks the body cannot climb (the rover; 0 for the jumper).
+    pub collisions: u32,
 }
 
 /// Ground truth of both robots for one frame.

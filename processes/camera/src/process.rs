@@ -30,7 +30,6 @@ pub struct CameraProcess {
     frames_without_poses: u64,
 }
 
-
 fn intrinsics(camera: &PinholeCamera) -> CameraIntrinsics {
     CameraIntrinsics {
         fx_px: camera.fx_px,
@@ -39,7 +38,6 @@ fn intrinsics(camera: &PinholeCamera) -> CameraIntrinsics {
         cy_px: camera.cy_px,
     }
 }
-
 
 fn header(
     camera: &PinholeCamera,
@@ -142,7 +140,8 @@ impl Process for CameraProcess {
             Ok::<(), hopnav_world::RenderError>(())
         })?;
 
-        let world_from_left = states.rover.world_from_body.to_isometry() * self.rover_body_from_left;
+        let world_from_left =
+            states.rover.world_from_body.to_isometry() * self.rover_body_from_left;
         let camera = *self.rover_renderer.camera();
         let rover_mount = self.rover_body_from_left;
         let renderer = &mut self.rover_renderer;

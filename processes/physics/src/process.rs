@@ -58,6 +58,10 @@ pub fn physics_section(config: &HopnavConfig) -> Result<PhysicsConfig, ConfigErr
             physics.rover.start_xy_m = [start_x_m, start_y_m - SCENARIO_START_OFFSET_M];
         }
     }
+    // The rover-only baseline keeps the jumper on the ground.
+    if config.mission.mode == hopnav_config::MissionMode::RoverOnly {
+        physics.jumper.initial_hop = false;
+    }
     physics.validate().map_err(|error| match error {
         crate::ConfigError::OutOfRange {
             key, value, range, ..
@@ -87,7 +91,7 @@ pub struct PhysicsProcess {
     last_jump_request: Option<u64>,
 }
 
-fn body_state(state: &BodyState) -> msg::BodyState {
+fn body_state(state: &BodyState, collisions: u32) -> msg::BodyState {
     msg::BodyState {
         world_from_body: Pose3 {
             position_m: state.position_m,
@@ -96,7 +100,7 @@ fn body_state(state: &BodyState) -> msg::BodyState {
         linear_velocity_mps: state.linear_velocity_mps,
         angular_velocity_radps: state.angular_velocity_radps,
         in_contact: u32::from(state.in_contact),
-        reserved: 0,
+        collisions,
     }
 }
 
@@ -208,10 +212,11 @@ impl Process for PhysicsProcess {
             ..SampleStamp::default()
         };
         self.announce_hop(&outputs, stamp)?;
+        let rover_collisions = self.sim.rover_collisions();
         self.body_states.send_with(|states| {
             states.stamp = stamp;
-            states.jumper = body_state(&outputs.jumper);
-            states.rover = body_state(&outputs.rover);
+            states.jumper = body_state(&outputs.jumper, 0);
+            states.rover = body_state(&outputs.rover, rover_collisions);
         })?;
         let sigma_m = self.altimeter_sigma_m;
         self.altimeter.send_with(|sample| {

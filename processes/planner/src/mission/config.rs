@@ -1,0 +1,132 @@
+//! Settings of the rover's navigation (`[planner]` in the config).
+
+use serde::{Deserialize, Serialize};
+
+/// How the rover follows its path and when it gives up.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NavigatorConfig {
+    /// The goal counts as reached within this distance, metres.
+    pub goal_tolerance_m: f64,
+    /// Commanded ground speed, m/s (physics clamps it to the rover's maximum).
+    pub cruise_speed_mps: f64,
+    /// The waypoint is the first path point at least this far ahead of the rover, metres.
+    pub lookahead_m: f64,
+    /// The rover's stereo camera maps reliably out to this range, metres.
+    pub sensing_range_m: f64,
+    /// When to ask the jumper to scout (cooperative mode only).
+    pub scout: ScoutConfig,
+}
+
+impl Default for NavigatorConfig {
+    fn default() -> Self {
+        Self {
+            goal_tolerance_m: 0.75,
+            cruise_speed_mps: 0.5,
+            lookahead_m: 1.5,
+            sensing_range_m: 8.0,
+            scout: ScoutConfig::default(),
+        }
+    }
+}
+
+/// The cooperative rule's knobs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ScoutConfig {
+    /// Ask for hops at all (the mission mode switches it off for rover-only runs).
+    pub enabled: bool,
+    /// Hop target: this far along the path from the jumper, at most, metres (the default
+    /// Table-1 hop flies 23.3 m; the rear camera maps the ground it flies over).
+    pub hop_range_m: f64,
+    /// Hops shorter than this are not worth a request, metres.
+    pub min_hop_m: f64,
+    /// Wait at least this long between requests (flight ≈ 4.7 s, then landing and settling),
+    /// and after the mission start (the jumper's first hop launches at start), seconds.
+    pub min_interval_s: f64,
+    /// Most hops the rover may ask for in one mission.
+    pub max_requests: u32,
+}
+
+impl Default for ScoutConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            hop_range_m: 20.0,
+            min_hop_m: 6.0,
+            min_interval_s: 10.0,
+            max_requests: 8,
+        }
+    }
+}
+
+impl NavigatorConfig {
+    /// Checks every value; the error names the key (relative to `[planner]`) and its range.
+    pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
+        let checks: [(&str, f64, f64, f64, &'static str); 8] = [
+            (
+                "goal_tolerance_m",
+                self.goal_tolerance_m,
+                0.05,
+                20.0,
+                "0.05..=20",
+            ),
+            (
+                "cruise_speed_mps",
+                self.cruise_speed_mps,
+                0.01,
+                10.0,
+                "0.01..=10",
+            ),
+            ("lookahead_m", self.lookahead_m, 0.1, 20.0, "0.1..=20"),
+            (
+                "sensing_range_m",
+                self.sensing_range_m,
+                0.5,
+                100.0,
+                "0.5..=100",
+            ),
+            (
+                "scout.hop_range_m",
+                self.scout.hop_range_m,
+                1.0,
+                100.0,
+                "1..=100",
+            ),
+            (
+                "scout.min_hop_m",
+                self.scout.min_hop_m,
+                0.0,
+                100.0,
+                "0..=100",
+            ),
+            (
+                "scout.min_interval_s",
+                self.scout.min_interval_s,
+                0.0,
+                600.0,
+                "0..=600",
+            ),
+            (
+                "scout.max_requests",
+                f64::from(self.scout.max_requests),
+                0.0,
+                1000.0,
+                "0..=1000",
+            ),
+        ];
+        for (key, value, low, high, range) in checks {
+            if !(value.is_finite() && (low..=high).contains(&value)) {
+                return Err((key.to_string(), value, range));
+            }
+        }
+        if self.scout.min_hop_m > self.scout.hop_range_m {
+            return Err((
+                "scout.min_hop_m".into(),
+                self.scout.min_hop_m,
+                "at most scout.hop_range_m",
+            ));
+        }
+        Ok(())
+    }
+}

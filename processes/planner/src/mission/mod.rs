@@ -1,0 +1,27 @@
+//! The rover's side of the mission, without IPC: follow the D* Lite path from A to B over the
+//! map the mapper publishes, and ask the jumper to scout where the rover cannot see.
+//!
+//! - [`geometry`]: world metres ↔ grid cells.
+//! - [`navigator`]: replans on map changes and rover motion, picks the next waypoint, decides
+//!   when the goal is reached or unreachable.
+//! - [`scout`]: the paper's cooperative rule: when the path runs into unknown cells beyond the
+//!   rover's sensing range or behind an obstacle, request a hop that flies over them.
+//!
+//! ```
+//! use hopnav_planner::mission::{MapGeometry, Navigator, NavigatorConfig};
+//! let geometry = MapGeometry::new(-8.0, -8.0, 0.5, 32, 32)?;
+//! let mut navigator = Navigator::new(geometry, [-6.0, 0.0], [6.0, 0.0], NavigatorConfig::default())?;
+//! let decision = navigator.step([-6.0, 0.0], None, 0.0)?;
+//! assert!(decision.waypoint_m[0] > -6.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod config;
+mod geometry;
+mod navigator;
+mod scout;
+
+pub use config::{NavigatorConfig, ScoutConfig};
+pub use geometry::{GeometryError, MapGeometry};
+pub use navigator::{Decision, MissionStatus, NavigationError, Navigator, NavigatorCounters};
+pub use scout::{ScoutDecision, find_region_of_interest};

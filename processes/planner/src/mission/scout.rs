@@ -1,0 +1,163 @@
+//! The cooperative rule of the paper: the rover asks the jumper to hop when its path runs into
+//! cells it cannot map itself, because they are beyond its stereo range or hidden behind an
+//! obstacle. The jumper's rear camera maps the ground it flies over, so the hop target lies
+//! past the region of interest, along the path.
+
+use super::geometry::MapGeometry;
+use crate::grid::{Cell, CellState, Grid};
+
+/// A hop the rover wants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScoutDecision {
+    /// Index into the path of the first cell the rover cannot map itself.
+    pub region_index: usize,
+    /// Where the jumper should land, world metres.
+    pub target_m: [f64; 2],
+}
+
+/// Index of the first path cell that is unknown and either farther than `sensing_range_m` from
+/// the rover or hidden from it by an obstacle cell; `None` when the rover can map the whole
+/// path itself.
+pub fn find_region_of_interest(
+    grid: &Grid,
+    geometry: &MapGeometry,
+    path: &[Cell],
+    rover_m: [f64; 2],
+    sensing_range_m: f64,
+) -> Option<usize> {
+    let rover_cell = geometry.nearest_cell(rover_m)?;
+    path.iter().position(|&cell| {
+        if grid.state(cell) != Some(CellState::Unknown) {
+            return false;
+        }
+        let centre_m = geometry.center_of(cell);
+        distance_m(centre_m, rover_m) > sensing_range_m || !line_of_sight(grid, rover_cell, cell)
+    })
+}
+
+/// Picks the hop: the point farthest along `path` (at or past `region_index`) within
+/// `hop_range_m` of the jumper and at least `min_hop_m` from it.
+pub(crate) fn choose_target(
+    geometry: &MapGeometry,
+    path: &[Cell],
+    region_index: usize,
+    jumper_m: [f64; 2],
+    hop_range_m: f64,
+    min_hop_m: f64,
+) -> Option<ScoutDecision> {
+    let target_m = path
+        .iter()
+        .skip(region_index)
+        .map(|&cell| geometry.center_of(cell))
+        .rfind(|centre_m| distance_m(*centre_m, jumper_m) <= hop_range_m)?;
+    (distance_m(target_m, jumper_m) >= min_hop_m).then_some(ScoutDecision {
+        region_index,
+        target_m,
+    })
+}
+
+pub(crate) fn distance_m(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// True when no obstacle cell lies strictly between `from` and `to` on the Bresenham line.
+pub(crate) fn line_of_sight(grid: &Grid, from: Cell, to: Cell) -> bool {
+    let (mut x, mut y) = (i64::from(from.x), i64::from(from.y));
+    let (x1, y1) = (i64::from(to.x), i64::from(to.y));
+    let dx = (x1 - x).abs();
+    let dy = -(y1 - y).abs();
+    let step_x = if x < x1 { 1 } else { -1 };
+    let step_y = if y < y1 { 1 } else { -1 };
+    let mut error = dx + dy;
+    while (x, y) != (x1, y1) {
+        let doubled = 2 * error;
+        if doubled >= dy {
+            error += dy;
+            x += step_x;
+        }
+        if doubled <= dx {
+            error += dx;
+            y += step_y;
+        }
+        if (x, y) == (x1, y1) {
+            break;
+        }
+        let cell = Cell::new(x as u32, y as u32);
+        if grid.state(cell) == Some(CellState::Obstacle) {
+            return false;
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::CellChange;
+
+    fn straight_path(length: u32) -> Vec<Cell> {
+        (0..length).map(|x| Cell::new(x, 10)).collect()
+    }
+
+    #[test]
+    fn unknown_cells_beyond_range_are_interesting() {
+        let geometry = MapGeometry::new(0.0, 0.0, 1.0, 40, 20).unwrap();
+        let mut grid = Grid::new(40, 20, CellState::Unknown).unwrap();
+        for x in 0..8 {
+            grid.apply(&CellChange::new(Cell::new(x, 10), CellState::Free, 0))
+                .unwrap();
+        }
+        let path = straight_path(40);
+        // Cells 8..=10 are unknown but within 10 m: visible; 11.. are beyond range.
+        let index = find_region_of_interest(&grid, &geometry, &path, [0.5, 10.5], 10.0);
+        assert_eq!(index, Some(11));
+    }
+
+    #[test]
+    fn unknown_cells_behind_an_obstacle_are_interesting() {
+        let geometry = MapGeometry::new(0.0, 0.0, 1.0, 40, 20).unwrap();
+        let mut grid = Grid::new(40, 20, CellState::Unknown).unwrap();
+        // The path bends around an obstacle at (4, 12); the cell behind it is unknown.
+        grid.apply(&CellChange::new(Cell::new(4, 12), CellState::Obstacle, 0))
+            .unwrap();
+        let path = vec![
+            Cell::new(2, 10),
+            Cell::new(3, 11),
+            Cell::new(3, 12),
+            Cell::new(3, 13),
+            Cell::new(4, 13),
+            Cell::new(5, 13),
+            Cell::new(6, 13),
+        ];
+        for cell in &path[..4] {
+            grid.apply(&CellChange::new(*cell, CellState::Free, 0))
+                .unwrap();
+        }
+        // From (1,11) the line to (6,13) passes (4,12): hidden although only 5 m away.
+        let index = find_region_of_interest(&grid, &geometry, &path, [1.5, 11.5], 30.0);
+        assert_eq!(index, Some(6));
+    }
+
+    #[test]
+    fn a_fully_visible_path_needs_no_hop() {
+        let geometry = MapGeometry::new(0.0, 0.0, 1.0, 40, 20).unwrap();
+        let grid = Grid::new(40, 20, CellState::Free).unwrap();
+        let path = straight_path(40);
+        assert_eq!(
+            find_region_of_interest(&grid, &geometry, &path, [0.5, 10.5], 5.0),
+            None
+        );
+    }
+
+    #[test]
+    fn target_is_the_farthest_path_point_in_hop_range() {
+        let geometry = MapGeometry::new(0.0, 0.0, 1.0, 40, 20).unwrap();
+        let path = straight_path(40);
+        let decision = choose_target(&geometry, &path, 10, [0.5, 10.5], 20.0, 5.0).unwrap();
+        assert_eq!(decision.target_m, [20.5, 10.5]);
+        // The jumper is too close to the end of the path for a worthwhile hop.
+        assert!(choose_target(&geometry, &path, 38, [37.5, 10.5], 20.0, 5.0).is_none());
+        // The region is out of reach.
+        assert!(choose_target(&geometry, &path, 35, [0.5, 10.5], 20.0, 5.0).is_none());
+    }
+}

@@ -2,6 +2,7 @@
 //! summaries and plots that build with no system library.
 #![warn(missing_docs)]
 
+pub mod map_plot;
 pub mod plot;
 mod summary;
 pub mod trajectory;

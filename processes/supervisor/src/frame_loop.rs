@@ -15,6 +15,7 @@ use hopnav_ipc::transport::{Publisher, Subscriber};
 use iceoryx2::prelude::{CallbackProgression, WaitSet};
 use iceoryx2::waitset::WaitSetRunResult;
 
+use crate::mission::MissionObserver;
 use crate::LaunchError;
 use crate::child::{ChildProcess, ChildSpec};
 use crate::report::ExitRecord;
@@ -35,6 +36,8 @@ pub enum LoopEnd {
     Interrupted,
     /// Something made continuing impossible.
     Stopped(String),
+    /// The mission ended (goal reached or given up) and `mission.stop_on_goal` is set.
+    MissionEnded(String),
 }
 
 /// What the loop measured, kept after its ports are gone.
@@ -60,6 +63,8 @@ pub struct SupervisorPorts {
     pub step_publishers: Vec<Publisher<FrameTick>>,
     /// Ground truth for the status line only (which robot is where); never for control.
     pub truth: Option<Subscriber<BodyStates>>,
+    /// Mission bookkeeping, when the graph runs a mission.
+    pub mission: Option<MissionObserver>,
 }
 
 /// State of a running launch.
@@ -75,6 +80,7 @@ pub struct FrameLoop {
     /// Ground truth for the status line only (which robot is where); never for control.
     truth: Option<Subscriber<BodyStates>>,
     last_truth: Option<BodyStates>,
+    mission: Option<MissionObserver>,
     period: Duration,
     started: Instant,
     next_frame: u64,
@@ -113,6 +119,7 @@ impl FrameLoop {
             status,
             truth: ports.truth,
             last_truth: None,
+            mission: ports.mission,
             period,
             started: Instant::now(),
             next_frame: 0,
@@ -231,6 +238,7 @@ impl FrameLoop {
             self.reap_children();
             self.watchdog();
             self.restart_due();
+            self.observe_mission();
 
             if self.next_frame < frames {
                 let tick_due = if self.config.run.lockstep {
@@ -256,6 +264,25 @@ impl FrameLoop {
             }
             self.print_status(false);
         }
+    }
+
+    /// Reads the mission topics; ends the launch when the mission is over (if configured).
+    fn observe_mission(&mut self) {
+        let Some(mission) = self.mission.as_mut() else {
+            return;
+        };
+        mission.observe();
+        if self.config.mission.stop_on_goal
+            && self.stop.is_none()
+            && let Some(reason) = mission.end_reason()
+        {
+            self.stop = Some(LoopEnd::MissionEnded(reason));
+        }
+    }
+
+    /// The mission observer, taken for the report.
+    pub fn take_mission(&mut self) -> Option<MissionObserver> {
+        self.mission.take()
     }
 
     fn start_frame(&mut self) {

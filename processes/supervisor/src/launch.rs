@@ -13,6 +13,7 @@ use hopnav_metrics::LatencySummary;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
+use crate::mission::MissionObserver;
 use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
 use crate::report::RunReport;
 use crate::restart::RestartTracker;
@@ -113,7 +114,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     );
 
     let loop_started = Instant::now();
-    let (frame_loop, end) = {
+    let (frame_loop, end, mission) = {
         let node = namespace.create_node("supervisor")?;
         let heartbeats = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT)?;
         let step_publishers = slots
@@ -128,12 +129,20 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
         // A small buffer: the status line only wants the newest state.
         let truth = Subscriber::<BodyStates>::open(&node, &topics::BODY_STATES).ok();
+        let runs_mission = config
+            .processes
+            .get("planner")
+            .is_some_and(|planner| planner.enabled);
+        let mission = runs_mission
+            .then(|| MissionObserver::open(&node, config))
+            .flatten();
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
             SupervisorPorts {
                 step_publishers,
                 truth,
+                mission,
             },
             namespace.clone(),
             options.executable.clone(),
@@ -148,8 +157,12 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             }
         };
         frame_loop.shutdown();
+        let mission = frame_loop.take_mission().map(|mut mission| {
+            mission.observe();
+            mission
+        });
         // Ports die with the loop here, before the namespace clean-up below.
-        (frame_loop.into_stats(), end)
+        (frame_loop.into_stats(), end, mission)
     };
     let wall_time_s = loop_started.elapsed().as_secs_f64();
     // Give the kernel a moment to let the last unmaps settle, then remove what iceoryx2
@@ -158,12 +171,37 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     namespace.remove_files_if_unused();
     let leftover_files = namespace.leftover_files().len();
 
-    let success = matches!(end, LoopEnd::Completed);
+    let success = matches!(end, LoopEnd::Completed | LoopEnd::MissionEnded(_));
     let outcome = match &end {
         LoopEnd::Completed => "completed".to_owned(),
+        LoopEnd::MissionEnded(reason) => format!("completed: mission over, {reason}"),
         LoopEnd::Interrupted => "interrupted".to_owned(),
         LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
     };
+    let mission_report = mission.as_ref().map(MissionObserver::report);
+    let mission_figure = mission.as_ref().and_then(|mission| {
+        let title = format!("hopnav {} mission, run {run_id}", config.mission.mode.name());
+        let figure = mission.figure(&title)?;
+        let path = run_dir.join("mission_map.png");
+        match hopnav_metrics::map_plot::write_map_png(&path, &figure) {
+            Ok(()) => Some(path.display().to_string()),
+            Err(error) => {
+                eprintln!("warning: {error}");
+                None
+            }
+        }
+    });
+    if let Some(mission) = &mission {
+        let track = mission
+            .rover_track_m()
+            .iter()
+            .map(|(x_m, y_m)| format!("{x_m:.3},{y_m:.3}\n"))
+            .collect::<String>();
+        let path = run_dir.join("rover_track.csv");
+        if let Err(error) = std::fs::write(&path, format!("x_m,y_m\n{track}")) {
+            eprintln!("warning: cannot write {}: {error}", path.display());
+        }
+    }
     let mut end_to_end = frame_loop.end_to_end_ns.clone();
     let report = RunReport {
         run_id: run_id.clone(),
@@ -185,6 +223,8 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         processes: frame_loop.slots.iter().map(Slot::report).collect(),
         stale_runs_cleaned: stale.dead_runs,
         leftover_files,
+        mission: mission_report,
+        mission_figure,
         config: serde_json::to_value(config).unwrap_or(serde_json::Value::Null),
     };
     report

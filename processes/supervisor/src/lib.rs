@@ -10,6 +10,8 @@ mod child;
 mod error;
 mod frame_loop;
 mod launch;
+pub mod mission;
+pub mod mission_report;
 pub mod report;
 pub mod restart;
 pub mod scheduler;

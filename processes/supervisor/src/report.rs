@@ -75,6 +75,10 @@ pub struct RunReport {
     pub stale_runs_cleaned: Vec<String>,
     /// Files of this launch's namespace left after shutdown (0 unless something leaked).
     pub leftover_files: usize,
+    /// The mission outcome (absent when the graph has no planner).
+    pub mission: Option<crate::mission_report::MissionReport>,
+    /// The Fig.-6 map of the mission, if one was drawn.
+    pub mission_figure: Option<String>,
     /// The configuration used.
     pub config: serde_json::Value,
 }
@@ -138,6 +142,12 @@ impl RunReport {
                 process.hangs_detected,
                 process.rejected_samples
             )?;
+        }
+        if let Some(mission) = &self.mission {
+            mission.print(out)?;
+        }
+        if let Some(figure) = &self.mission_figure {
+            writeln!(out, "map figure: {figure}")?;
         }
         Ok(())
     }

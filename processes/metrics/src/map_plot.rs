@@ -1,0 +1,234 @@
+//! The paper's Fig. 6 as a PNG: the mission grid with each mapped cell coloured by what it is
+//! (obstacle or inflated) and who saw it (rover, jumper or both), the start and goal, and any
+//! number of trajectories drawn over it (both modes' rover paths, the jumper's hops).
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::plot::{PlotError, register_font};
+
+/// Who observed a cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Observer {
+    /// Only the rover's stereo camera.
+    Rover,
+    /// Only the jumper's camera.
+    Jumper,
+    /// Both robots.
+    Both,
+}
+
+/// What a mapped cell is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MappedClass {
+    /// Observed, traversable.
+    Free,
+    /// Obstacle.
+    Obstacle,
+    /// Traversable at extra cost near an obstacle.
+    Inflated,
+}
+
+/// One mapped cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MappedCell {
+    /// Column.
+    pub x: u32,
+    /// Row.
+    pub y: u32,
+    /// Class.
+    pub class: MappedClass,
+    /// Observer.
+    pub observer: Observer,
+}
+
+/// A line drawn over the map.
+#[derive(Debug, Clone)]
+pub struct Track {
+    /// Legend label.
+    pub label: String,
+    /// Points in world metres.
+    pub points_m: Vec<(f64, f64)>,
+    /// Colour (r, g, b).
+    pub rgb: (u8, u8, u8),
+    /// Dashed-looking markers instead of a line (for hops).
+    pub markers_only: bool,
+}
+
+/// Everything on the figure.
+#[derive(Debug, Clone)]
+pub struct MapFigure {
+    /// Title.
+    pub title: String,
+    /// World x, y of the corner of cell (0, 0), metres.
+    pub origin_m: (f64, f64),
+    /// Cell edge, metres.
+    pub cell_size_m: f64,
+    /// Mapped cells (unmapped cells stay white).
+    pub cells: Vec<MappedCell>,
+    /// Start A and goal B, world metres.
+    pub start_m: (f64, f64),
+    /// Goal B.
+    pub goal_m: (f64, f64),
+    /// Lines over the map.
+    pub tracks: Vec<Track>,
+    /// World rectangle to show: (x min, x max, y min, y max), metres.
+    pub view_m: (f64, f64, f64, f64),
+}
+
+fn cell_colour(class: MappedClass, observer: Observer) -> RGBColor {
+    match (class, observer) {
+        (MappedClass::Free, _) => RGBColor(235, 235, 235),
+        (MappedClass::Obstacle, Observer::Rover) => RGBColor(31, 78, 160),
+        (MappedClass::Obstacle, Observer::Jumper) => RGBColor(190, 40, 30),
+        (MappedClass::Obstacle, Observer::Both) => RGBColor(110, 40, 130),
+        (MappedClass::Inflated, Observer::Rover) => RGBColor(150, 185, 235),
+        (MappedClass::Inflated, Observer::Jumper) => RGBColor(245, 170, 160),
+        (MappedClass::Inflated, Observer::Both) => RGBColor(205, 170, 220),
+    }
+}
+
+const LEGEND: [(&str, MappedClass, Observer); 6] = [
+    ("rover obstacle", MappedClass::Obstacle, Observer::Rover),
+    ("rover inflated", MappedClass::Inflated, Observer::Rover),
+    ("jumper obstacle", MappedClass::Obstacle, Observer::Jumper),
+    ("jumper inflated", MappedClass::Inflated, Observer::Jumper),
+    ("both obstacle", MappedClass::Obstacle, Observer::Both),
+    ("both inflated", MappedClass::Inflated, Observer::Both),
+];
+
+/// Draws `figure` into a PNG at `path`.
+pub fn write_map_png(path: &Path, figure: &MapFigure) -> Result<(), PlotError> {
+    let error = |message: String| PlotError {
+        path: path.display().to_string(),
+        message,
+    };
+    register_font().map_err(error)?;
+    let (x0, x1, y0, y1) = figure.view_m;
+    if !(x1 > x0 && y1 > y0 && figure.cell_size_m > 0.0) {
+        return Err(error(format!("empty view {:?}", figure.view_m)));
+    }
+    let width_px = 1100u32;
+    let height_px = ((f64::from(width_px - 200) * (y1 - y0) / (x1 - x0)) as u32 + 140).clamp(300, 1400);
+    let root = BitMapBackend::new(path, (width_px, height_px)).into_drawing_area();
+    draw_map(&root, figure).map_err(error)?;
+    root.present().map_err(|e| error(e.to_string()))
+}
+
+fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    figure: &MapFigure,
+) -> Result<(), String> {
+    let (x0, x1, y0, y1) = figure.view_m;
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(&figure.title, ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(56)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x [m]")
+        .y_desc("y [m]")
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let size_m = figure.cell_size_m;
+    let (ox, oy) = figure.origin_m;
+    chart
+        .draw_series(figure.cells.iter().map(|cell| {
+            let left = ox + f64::from(cell.x) * size_m;
+            let bottom = oy + f64::from(cell.y) * size_m;
+            Rectangle::new(
+                [(left, bottom), (left + size_m, bottom + size_m)],
+                cell_colour(cell.class, cell.observer).filled(),
+            )
+        }))
+        .map_err(|e| e.to_string())?;
+    for (label, class, observer) in LEGEND {
+        let colour = cell_colour(class, observer);
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+            .map_err(|e| e.to_string())?
+            .label(label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], colour.filled()));
+    }
+    for track in &figure.tracks {
+        let colour = RGBColor(track.rgb.0, track.rgb.1, track.rgb.2);
+        let points: Vec<(f64, f64)> = track
+            .points_m
+            .iter()
+            .copied()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .collect();
+        let series = if track.markers_only {
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))
+                .map_err(|e| e.to_string())?
+        } else {
+            chart
+                .draw_series(LineSeries::new(points, colour.stroke_width(3)))
+                .map_err(|e| e.to_string())?
+        };
+        series.label(track.label.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+        });
+    }
+    for (label, point, colour) in [
+        ("start A", figure.start_m, RGBColor(20, 140, 20)),
+        ("goal B", figure.goal_m, RGBColor(0, 0, 0)),
+    ] {
+        chart
+            .draw_series(std::iter::once(TriangleMarker::new(point, 9, colour.filled())))
+            .map_err(|e| e.to_string())?
+            .label(label)
+            .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, colour.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.85))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_a_png_with_cells_and_tracks() {
+        let dir = std::env::temp_dir().join(format!("hopnav-map-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("fig6.png");
+        let figure = MapFigure {
+            title: "test".into(),
+            origin_m: (-10.0, -10.0),
+            cell_size_m: 0.5,
+            cells: vec![
+                MappedCell { x: 20, y: 20, class: MappedClass::Obstacle, observer: Observer::Jumper },
+                MappedCell { x: 21, y: 20, class: MappedClass::Inflated, observer: Observer::Rover },
+            ],
+            start_m: (-8.0, 0.0),
+            goal_m: (8.0, 0.0),
+            tracks: vec![Track {
+                label: "rover".into(),
+                points_m: vec![(-8.0, 0.0), (0.0, 3.0), (8.0, 0.0)],
+                rgb: (0, 120, 0),
+                markers_only: false,
+            }],
+            view_m: (-10.0, 10.0, -10.0, 10.0),
+        };
+        write_map_png(&path, &figure).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        let bad = MapFigure { view_m: (0.0, 0.0, 0.0, 1.0), ..figure };
+        assert!(write_map_png(&path, &bad).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,310 @@
+//! Watches the mission from outside: the planner's state and counters, the mapper's cells, and
+//! ground truth of both robots (for the report and the figure only; never fed back).
+
+use std::collections::HashMap;
+
+use hopnav_config::HopnavConfig;
+use hopnav_ipc::messages::{
+    BodyStates, CellClass, MapHeader, MissionState, PathHeader, Robot,
+};
+use hopnav_ipc::topics;
+use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
+use hopnav_ipc::IpcService;
+use iceoryx2::node::Node;
+use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
+
+use crate::mission_report::MissionReport;
+
+/// The planner holding "unreachable" this long ends the mission as failed, seconds.
+const UNREACHABLE_GIVE_UP_S: f64 = 5.0;
+/// Truth positions closer than this to the previous one are not stored again, metres.
+const TRACK_STEP_M: f64 = 0.05;
+
+/// A cell as the mapper last published it.
+#[derive(Debug, Clone, Copy)]
+struct CellView {
+    class: CellClass,
+    observed_by: u32,
+}
+
+/// Grid placement from the map header.
+#[derive(Debug, Clone, Copy)]
+struct Geometry {
+    origin_m: (f64, f64),
+    cell_size_m: f64,
+}
+
+/// Mission bookkeeping of one launch.
+pub struct MissionObserver {
+    mode: hopnav_config::MissionMode,
+    start_m: Option<[f64; 2]>,
+    goal_m: Option<[f64; 2]>,
+    truth: Subscriber<BodyStates>,
+    paths: SliceSubscriber<PathHeader>,
+    maps: SliceSubscriber<MapHeader>,
+    last_path: Option<PathHeader>,
+    planned_path_m: Vec<(f64, f64)>,
+    geometry: Option<Geometry>,
+    cells: HashMap<(u32, u32), CellView>,
+    rover_track_m: Vec<(f64, f64)>,
+    jumper_track_m: Vec<(f64, f64)>,
+    rover_path_m: f64,
+    last_rover_m: Option<[f64; 2]>,
+    collisions: u32,
+    takeoffs: u32,
+    jumper_in_contact: bool,
+    last_sim_time_s: f64,
+    reached_at_s: Option<f64>,
+    unreachable_since_s: Option<f64>,
+}
+
+impl MissionObserver {
+    /// Subscribes on the supervisor's node. `None` when the config has no mission goal.
+    pub fn open(node: &Node<IpcService>, config: &HopnavConfig) -> Option<Self> {
+        let world: hopnav_world::WorldConfig =
+            hopnav_config::parse_section(config, "world").ok()?;
+        Some(Self {
+            mode: config.mission.mode,
+            start_m: world.scenario.start_m,
+            goal_m: world.scenario.goal_m,
+            truth: Subscriber::open(node, &topics::BODY_STATES).ok()?,
+            paths: SliceSubscriber::open(node, &topics::PATH).ok()?,
+            maps: SliceSubscriber::open(node, &topics::MAP_UPDATES).ok()?,
+            last_path: None,
+            planned_path_m: Vec::new(),
+            geometry: None,
+            cells: HashMap::new(),
+            rover_track_m: Vec::new(),
+            jumper_track_m: Vec::new(),
+            rover_path_m: 0.0,
+            last_rover_m: None,
+            collisions: 0,
+            takeoffs: 0,
+            jumper_in_contact: true,
+            last_sim_time_s: 0.0,
+            reached_at_s: None,
+            unreachable_since_s: None,
+        })
+    }
+
+    /// Drains everything published since the last call.
+    pub fn observe(&mut self) {
+        while let Ok(Some(states)) = self.truth.receive() {
+            self.on_truth(&states);
+        }
+        while let Ok(Some(sample)) = self.maps.receive() {
+            let header = sample.header();
+            self.geometry.get_or_insert(Geometry {
+                origin_m: (header.origin_x_m, header.origin_y_m),
+                cell_size_m: header.cell_size_m,
+            });
+            for update in sample.elements() {
+                if let Some(class) = CellClass::from_code(update.class) {
+                    self.cells.insert(
+                        (update.x, update.y),
+                        CellView {
+                            class,
+                            observed_by: update.observed_by,
+                        },
+                    );
+                }
+            }
+        }
+        while let Ok(Some(sample)) = self.paths.receive() {
+            let header = *sample.header();
+            self.planned_path_m.clear();
+            self.planned_path_m
+                .extend(sample.elements().iter().map(|point| (point.x_m, point.y_m)));
+            self.on_path(&header);
+        }
+    }
+
+    fn on_truth(&mut self, states: &BodyStates) {
+        self.last_sim_time_s = states.stamp.sim_time_ns as f64 * 1e-9;
+        let [x_m, y_m, _] = states.rover.world_from_body.position_m;
+        if let Some([last_x, last_y]) = self.last_rover_m {
+            self.rover_path_m += (x_m - last_x).hypot(y_m - last_y);
+        }
+        self.last_rover_m = Some([x_m, y_m]);
+        push_if_moved(&mut self.rover_track_m, (x_m, y_m));
+        let [jx_m, jy_m, _] = states.jumper.world_from_body.position_m;
+        push_if_moved(&mut self.jumper_track_m, (jx_m, jy_m));
+        let in_contact = states.jumper.in_contact != 0;
+        if self.jumper_in_contact && !in_contact {
+            self.takeoffs += 1;
+        }
+        self.jumper_in_contact = in_contact;
+        self.collisions = states.rover.collisions;
+    }
+
+    fn on_path(&mut self, header: &PathHeader) {
+        let time_s = header.stamp.sim_time_ns as f64 * 1e-9;
+        match MissionState::from_code(header.state) {
+            Some(MissionState::GoalReached) => {
+                self.reached_at_s.get_or_insert(time_s);
+            }
+            Some(MissionState::Unreachable) => {
+                self.unreachable_since_s.get_or_insert(time_s);
+            }
+            _ => self.unreachable_since_s = None,
+        }
+        self.last_path = Some(*header);
+    }
+
+    /// Why the mission is over, if it is: the goal was reached, or it stayed unreachable.
+    pub fn end_reason(&self) -> Option<String> {
+        if let Some(at_s) = self.reached_at_s {
+            return Some(format!("goal reached at {at_s:.1} s"));
+        }
+        let since_s = self.unreachable_since_s?;
+        let now_s = self
+            .last_path
+            .map_or(since_s, |header| header.stamp.sim_time_ns as f64 * 1e-9);
+        (now_s - since_s >= UNREACHABLE_GIVE_UP_S)
+            .then(|| format!("goal unreachable on the known map since {since_s:.1} s"))
+    }
+
+    /// The report section.
+    pub fn report(&self) -> MissionReport {
+        let header = self.last_path.unwrap_or_default();
+        let distance_to_goal_m = match (self.goal_m, self.last_rover_m) {
+            (Some(goal), Some(rover)) => Some((goal[0] - rover[0]).hypot(goal[1] - rover[1])),
+            _ => None,
+        };
+        let straight_line_m = match (self.start_m, self.goal_m) {
+            (Some(start), Some(goal)) => Some((goal[0] - start[0]).hypot(goal[1] - start[1])),
+            _ => None,
+        };
+        let state = MissionState::from_code(header.state).unwrap_or(MissionState::Waiting);
+        let count = |class: CellClass| self.cells.values().filter(|cell| cell.class == class).count();
+        MissionReport {
+            mode: self.mode.name().to_owned(),
+            goal_reached: self.reached_at_s.is_some(),
+            final_state: format!("{state:?}"),
+            mission_time_s: self.reached_at_s.unwrap_or(self.last_sim_time_s),
+            executed_path_m: self.rover_path_m,
+            straight_line_m,
+            final_distance_to_goal_m: distance_to_goal_m,
+            replans: header.replan_count,
+            node_expansions: header.total_expansions,
+            jump_requests: header.jump_requests,
+            jumper_hops: self.takeoffs,
+            collisions: self.collisions,
+            mapped_cells: self.cells.len(),
+            obstacle_cells: count(CellClass::Obstacle),
+            inflated_cells: count(CellClass::Inflated),
+        }
+    }
+
+    /// The Fig.-6 figure of this launch, with the rover's and the jumper's true tracks.
+    pub fn figure(&self, title: &str) -> Option<MapFigure> {
+        let geometry = self.geometry?;
+        let (start, goal) = (self.start_m?, self.goal_m?);
+        let rover_label = format!("rover ({})", self.mode.name());
+        Some(map_figure(
+            title,
+            geometry.origin_m,
+            geometry.cell_size_m,
+            self.mapped_cells(),
+            (start[0], start[1]),
+            (goal[0], goal[1]),
+            vec![
+                Track {
+                    label: rover_label,
+                    points_m: self.rover_track_m.clone(),
+                    rgb: (0, 150, 60),
+                    markers_only: false,
+                },
+                Track {
+                    label: "jumper".into(),
+                    points_m: self.jumper_track_m.clone(),
+                    rgb: (230, 130, 0),
+                    markers_only: true,
+                },
+            ],
+        ))
+    }
+
+    /// The rover's true track, world metres.
+    pub fn rover_track_m(&self) -> &[(f64, f64)] {
+        &self.rover_track_m
+    }
+
+    fn mapped_cells(&self) -> Vec<MappedCell> {
+        let rover_bit = 1u32 << Robot::Rover.code();
+        let jumper_bit = 1u32 << Robot::Jumper.code();
+        self.cells
+            .iter()
+            .filter_map(|(&(x, y), view)| {
+                let class = match view.class {
+                    CellClass::Unknown => return None,
+                    CellClass::Free => MappedClass::Free,
+                    CellClass::Obstacle => MappedClass::Obstacle,
+                    CellClass::Inflated => MappedClass::Inflated,
+                };
+                let observer = match (
+                    view.observed_by & rover_bit != 0,
+                    view.observed_by & jumper_bit != 0,
+                ) {
+                    (true, true) => Observer::Both,
+                    (false, true) => Observer::Jumper,
+                    _ => Observer::Rover,
+                };
+                Some(MappedCell {
+                    x,
+                    y,
+                    class,
+                    observer,
+                })
+            })
+            .collect()
+    }
+}
+
+/// A figure around start, goal and every track, with `cells` under them.
+pub fn map_figure(
+    title: &str,
+    origin_m: (f64, f64),
+    cell_size_m: f64,
+    cells: Vec<MappedCell>,
+    start_m: (f64, f64),
+    goal_m: (f64, f64),
+    tracks: Vec<Track>,
+) -> MapFigure {
+    let points = tracks
+        .iter()
+        .flat_map(|track| track.points_m.iter().copied())
+        .chain([start_m, goal_m])
+        .filter(|(x, y)| x.is_finite() && y.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for (x, y) in points {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    let margin_m = 4.0;
+    let half_height_m = ((y1 - y0) / 2.0 + margin_m).max((x1 - x0) / 6.0);
+    let centre_y = (y0 + y1) / 2.0;
+    MapFigure {
+        title: title.to_owned(),
+        origin_m,
+        cell_size_m,
+        cells,
+        start_m,
+        goal_m,
+        tracks,
+        view_m: (
+            x0 - margin_m,
+            x1 + margin_m,
+            centre_y - half_height_m,
+            centre_y + half_height_m,
+        ),
+    }
+}
+
+fn push_if_moved(track: &mut Vec<(f64, f64)>, point: (f64, f64)) {
+    let moved = track
+        .last()
+        .is_none_or(|last| (point.0 - last.0).hypot(point.1 - last.1) >= TRACK_STEP_M);
+    if moved && point.0.is_finite() && point.1.is_finite() {
+        track.push(point);
+    }
+}

@@ -1,0 +1,69 @@
+//! The mission section of the run report.
+
+use std::io::Write;
+
+use serde::{Deserialize, Serialize};
+
+/// How the mission went (ground truth for distances; the planner's own counters).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MissionReport {
+    /// `cooperative` or `rover-only`.
+    pub mode: String,
+    /// The planner reported the goal reached.
+    pub goal_reached: bool,
+    /// The planner's last state (Waiting, Driving, GoalReached, Unreachable).
+    pub final_state: String,
+    /// Simulated time to the goal, or to the end of the launch, seconds.
+    pub mission_time_s: f64,
+    /// Distance the rover really drove, metres.
+    pub executed_path_m: f64,
+    /// Straight-line distance from A to B, metres.
+    pub straight_line_m: Option<f64>,
+    /// True distance from the rover to B at the end, metres.
+    pub final_distance_to_goal_m: Option<f64>,
+    /// Replans forced by map changes on the path being followed.
+    pub replans: u64,
+    /// D* Lite node expansions over the mission.
+    pub node_expansions: u64,
+    /// Hops the rover asked the jumper for.
+    pub jump_requests: u32,
+    /// Times the jumper really took off (its first hop included).
+    pub jumper_hops: u32,
+    /// Rover collisions with rocks it cannot climb.
+    pub collisions: u32,
+    /// Cells the mapper published.
+    pub mapped_cells: usize,
+    /// Of them, obstacles.
+    pub obstacle_cells: usize,
+    /// Of them, inflated.
+    pub inflated_cells: usize,
+}
+
+impl MissionReport {
+    /// Prints the mission lines of the summary.
+    pub fn print(&self, out: &mut impl Write) -> std::io::Result<()> {
+        let distance = |value: Option<f64>| value.map_or("-".to_owned(), |m| format!("{m:.1} m"));
+        writeln!(
+            out,
+            "mission ({}): {} after {:.1} s — rover drove {:.1} m (A–B {}), {} to go; {} replans, {} expansions, {} jump requests, {} hops, {} collisions; map {} cells ({} obstacle, {} inflated)",
+            self.mode,
+            if self.goal_reached {
+                "goal reached".to_owned()
+            } else {
+                format!("goal NOT reached ({})", self.final_state)
+            },
+            self.mission_time_s,
+            self.executed_path_m,
+            distance(self.straight_line_m),
+            distance(self.final_distance_to_goal_m),
+            self.replans,
+            self.node_expansions,
+            self.jump_requests,
+            self.jumper_hops,
+            self.collisions,
+            self.mapped_cells,
+            self.obstacle_cells,
+            self.inflated_cells
+        )
+    }
+}

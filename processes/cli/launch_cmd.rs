@@ -106,10 +106,12 @@ pub fn run(args: LaunchArgs) -> ExitCode {
             let mut stdout = std::io::stdout().lock();
             let _ = outcome.report.print_summary(&mut stdout);
             println!("report: {}", outcome.run_dir.join("report.json").display());
-            match outcome.report.outcome.as_str() {
-                "completed" => ExitCode::SUCCESS,
-                "interrupted" => ExitCode::from(130),
-                _ => ExitCode::FAILURE,
+            if outcome.report.outcome == "interrupted" {
+                ExitCode::from(130)
+            } else if outcome.success {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
             }
         }
         Err(error @ LaunchError::UnknownProcess { .. }) => {

@@ -2,6 +2,7 @@
 //! every child, so all processes share one build and one message layout.
 
 mod bench_cmd;
+mod compare_cmd;
 mod eval_cmd;
 mod launch_cmd;
 mod plan_cmd;
@@ -33,6 +34,9 @@ enum Command {
     /// D* Lite on MovingAI maps: solve scenarios, or reveal the map as the agent moves and
     /// compare with repeated A* (--dynamic R).
     Plan(plan_cmd::PlanArgs),
+    /// Cooperative vs rover-only missions over N seeded terrains (the paper's comparison):
+    /// success, executed path, replans, expansions; CSV, JSON and a Fig.-6 map.
+    Compare(compare_cmd::CompareArgs),
     /// Accuracy evaluations against ground truth.
     #[command(subcommand)]
     Eval(eval_cmd::EvalCommand),
@@ -49,5 +53,6 @@ fn main() -> ExitCode {
         Command::Bench(command) => bench_cmd::run(command),
         Command::Eval(command) => eval_cmd::run(command),
         Command::Plan(args) => plan_cmd::run(args),
+        Command::Compare(args) => compare_cmd::run(args),
     }
 }

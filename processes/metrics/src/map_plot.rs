@@ -110,7 +110,8 @@ pub fn write_map_png(path: &Path, figure: &MapFigure) -> Result<(), PlotError> {
         return Err(error(format!("empty view {:?}", figure.view_m)));
     }
     let width_px = 1100u32;
-    let height_px = ((f64::from(width_px - 200) * (y1 - y0) / (x1 - x0)) as u32 + 140).clamp(300, 1400);
+    let height_px =
+        ((f64::from(width_px - 200) * (y1 - y0) / (x1 - x0)) as u32 + 140).clamp(300, 1400);
     let root = BitMapBackend::new(path, (width_px, height_px)).into_drawing_area();
     draw_map(&root, figure).map_err(error)?;
     root.present().map_err(|e| error(e.to_string()))
@@ -182,7 +183,11 @@ fn draw_map<DB: DrawingBackend>(
         ("goal B", figure.goal_m, RGBColor(0, 0, 0)),
     ] {
         chart
-            .draw_series(std::iter::once(TriangleMarker::new(point, 9, colour.filled())))
+            .draw_series(std::iter::once(TriangleMarker::new(
+                point,
+                9,
+                colour.filled(),
+            )))
             .map_err(|e| e.to_string())?
             .label(label)
             .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, colour.filled()));
@@ -211,8 +216,18 @@ mod tests {
             origin_m: (-10.0, -10.0),
             cell_size_m: 0.5,
             cells: vec![
-                MappedCell { x: 20, y: 20, class: MappedClass::Obstacle, observer: Observer::Jumper },
-                MappedCell { x: 21, y: 20, class: MappedClass::Inflated, observer: Observer::Rover },
+                MappedCell {
+                    x: 20,
+                    y: 20,
+                    class: MappedClass::Obstacle,
+                    observer: Observer::Jumper,
+                },
+                MappedCell {
+                    x: 21,
+                    y: 20,
+                    class: MappedClass::Inflated,
+                    observer: Observer::Rover,
+                },
             ],
             start_m: (-8.0, 0.0),
             goal_m: (8.0, 0.0),
@@ -227,7 +242,10 @@ mod tests {
         write_map_png(&path, &figure).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(&bytes[1..4], b"PNG");
-        let bad = MapFigure { view_m: (0.0, 0.0, 0.0, 1.0), ..figure };
+        let bad = MapFigure {
+            view_m: (0.0, 0.0, 0.0, 1.0),
+            ..figure
+        };
         assert!(write_map_png(&path, &bad).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }

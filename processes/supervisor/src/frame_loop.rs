@@ -15,9 +15,9 @@ use hopnav_ipc::transport::{Publisher, Subscriber};
 use iceoryx2::prelude::{CallbackProgression, WaitSet};
 use iceoryx2::waitset::WaitSetRunResult;
 
-use crate::mission::MissionObserver;
 use crate::LaunchError;
 use crate::child::{ChildProcess, ChildSpec};
+use crate::mission::MissionObserver;
 use crate::report::ExitRecord;
 use crate::restart::RestartDecision;
 use crate::scheduler::{FrameOutcome, FrameScheduler, Release};

@@ -13,8 +13,8 @@ use hopnav_metrics::LatencySummary;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
-use crate::mission::MissionObserver;
 use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
+use crate::mission::MissionObserver;
 use crate::report::RunReport;
 use crate::restart::RestartTracker;
 use crate::slot::Slot;
@@ -35,6 +35,13 @@ pub struct LaunchOptions {
     pub show_status: bool,
 }
 
+/// What the mission observer found, kept after its ports are gone.
+struct MissionSummary {
+    report: crate::mission_report::MissionReport,
+    figure: Option<hopnav_metrics::map_plot::MapFigure>,
+    rover_track_m: Vec<(f64, f64)>,
+}
+
 /// A launch that ran its frame loop.
 #[derive(Debug, Clone)]
 pub struct LaunchOutcome {
@@ -42,8 +49,11 @@ pub struct LaunchOutcome {
     pub report: RunReport,
     /// The run folder.
     pub run_dir: PathBuf,
-    /// True when every requested frame completed and nothing stopped the launch.
+    /// True when every requested frame completed, or the mission ended, and nothing stopped
+    /// the launch.
     pub success: bool,
+    /// The mission's Fig.-6 map (cells and true tracks), when the graph ran a mission.
+    pub mission_figure: Option<hopnav_metrics::map_plot::MapFigure>,
 }
 
 /// Runs a launch to its end. Setup failures are errors; anything after the graph started
@@ -157,11 +167,17 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             }
         };
         frame_loop.shutdown();
+        // The mission's summary is taken now: its ports must die with the loop's, before the
+        // namespace clean-up below.
         let mission = frame_loop.take_mission().map(|mut mission| {
             mission.observe();
-            mission
+            let title = format!("hopnav {} mission, run {run_id}", config.mission.mode.name());
+            MissionSummary {
+                report: mission.report(),
+                figure: mission.figure(&title),
+                rover_track_m: mission.rover_track_m().to_vec(),
+            }
         });
-        // Ports die with the loop here, before the namespace clean-up below.
         (frame_loop.into_stats(), end, mission)
     };
     let wall_time_s = loop_started.elapsed().as_secs_f64();
@@ -178,12 +194,11 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         LoopEnd::Interrupted => "interrupted".to_owned(),
         LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
     };
-    let mission_report = mission.as_ref().map(MissionObserver::report);
-    let mission_figure = mission.as_ref().and_then(|mission| {
-        let title = format!("hopnav {} mission, run {run_id}", config.mission.mode.name());
-        let figure = mission.figure(&title)?;
+    let mission_report = mission.as_ref().map(|mission| mission.report.clone());
+    let figure = mission.as_ref().and_then(|mission| mission.figure.clone());
+    let mission_figure = figure.as_ref().and_then(|figure| {
         let path = run_dir.join("mission_map.png");
-        match hopnav_metrics::map_plot::write_map_png(&path, &figure) {
+        match hopnav_metrics::map_plot::write_map_png(&path, figure) {
             Ok(()) => Some(path.display().to_string()),
             Err(error) => {
                 eprintln!("warning: {error}");
@@ -193,7 +208,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     });
     if let Some(mission) = &mission {
         let track = mission
-            .rover_track_m()
+            .rover_track_m
             .iter()
             .map(|(x_m, y_m)| format!("{x_m:.3},{y_m:.3}\n"))
             .collect::<String>();
@@ -237,5 +252,6 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         report,
         run_dir,
         success,
+        mission_figure: figure,
     })
 }

@@ -4,14 +4,12 @@
 use std::collections::HashMap;
 
 use hopnav_config::HopnavConfig;
-use hopnav_ipc::messages::{
-    BodyStates, CellClass, MapHeader, MissionState, PathHeader, Robot,
-};
+use hopnav_ipc::IpcService;
+use hopnav_ipc::messages::{BodyStates, CellClass, MapHeader, MissionState, PathHeader, Robot};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
-use hopnav_ipc::IpcService;
-use iceoryx2::node::Node;
 use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
+use iceoryx2::node::Node;
 
 use crate::mission_report::MissionReport;
 
@@ -176,7 +174,12 @@ impl MissionObserver {
             _ => None,
         };
         let state = MissionState::from_code(header.state).unwrap_or(MissionState::Waiting);
-        let count = |class: CellClass| self.cells.values().filter(|cell| cell.class == class).count();
+        let count = |class: CellClass| {
+            self.cells
+                .values()
+                .filter(|cell| cell.class == class)
+                .count()
+        };
         MissionReport {
             mode: self.mode.name().to_owned(),
             goal_reached: self.reached_at_s.is_some(),

@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 mod error;
+pub mod fault;
 mod merge;
 mod schema;
 mod validate;
@@ -90,7 +91,7 @@ pub fn check_section_names(config: &HopnavConfig, known: &[&str]) -> Result<(), 
         Some(unknown) => Err(ConfigError::Schema {
             key: unknown.clone(),
             message: format!(
-                "unknown config table (known tables: run, watchdog, restart, processes, probe, recorder, mission, {})",
+                "unknown config table (known tables: run, watchdog, restart, processes, probe, recorder, mission, faults, {})",
                 known.join(", ")
             ),
         }),

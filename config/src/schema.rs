@@ -26,6 +26,9 @@ pub struct HopnavConfig {
     pub recorder: RecorderConfig,
     /// What the mission is: cooperative or rover-only, and when it ends.
     pub mission: MissionConfig,
+    /// Faults to inject.
+    #[serde(default)]
+    pub faults: crate::fault::FaultsConfig,
     /// Process-specific tables, parsed by their own libraries.
     #[serde(flatten)]
     pub sections: toml::Table,

@@ -51,6 +51,10 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
         2,
         100_000,
     )?;
+    config.faults.specs().map_err(|error| ConfigError::Schema {
+        key: "faults.inject".into(),
+        message: error.to_string(),
+    })?;
     let restart = &config.restart;
     check("restart.max_restarts", restart.max_restarts, 0, 1000)?;
     check_f64("restart.window_s", restart.window_s, 0.1, 86_400.0)?;

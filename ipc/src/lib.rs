@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod codec;
+pub mod fault;
 pub mod messages;
 pub mod namespace;
 pub mod process_loop;

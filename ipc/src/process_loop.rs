@@ -123,6 +123,11 @@ impl HeartbeatSender {
 
 /// Runs process `P` until shutdown or a termination signal.
 pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, LoopError> {
+    crate::fault::install_from_env().map_err(|error| LoopError::Process {
+        stage: "faults",
+        reason: error.to_string(),
+    })?;
+    let step_delay = crate::fault::step_delay();
     let namespace = Namespace::new(&identity.run_id)?;
     let node = namespace.create_node(&identity.name)?;
     let context = ProcessContext { node, identity };
@@ -159,9 +164,10 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
             context.identity.heartbeat_period,
         );
         match wait {
-            Ok(WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt) => {
-                break LoopExit::Signal;
-            }
+            Ok(WaitSetRunResult::TerminationRequest) => break LoopExit::Signal,
+            // Any other signal (SIGCONT after a stop, …) only cut the wait short; a SIGTERM or
+            // SIGINT shows up as a termination request on the next wait.
+            Ok(WaitSetRunResult::Interrupt) => continue,
             Ok(_) => {}
             Err(error) => return Err(LoopError::Wait(format!("{error:?}"))),
         }
@@ -187,6 +193,10 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
         }
         if let Some(tick) = newest_step {
             let started_ns = monotonic_now_ns();
+            if let Some(delay) = step_delay {
+                // Injected fault: a slow process.
+                std::thread::sleep(delay);
+            }
             process
                 .step(&context, &tick)
                 .map_err(|error| LoopError::Process {

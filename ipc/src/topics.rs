@@ -60,7 +60,7 @@ pub fn step(process_name: &str) -> TopicSpec {
 }
 
 /// Latency probe: one image-sized sample per frame.
-pub const PROBE_IMAGE: TopicSpec = TopicSpec::fixed("hopnav/probe/image", 1, 2);
+pub const PROBE_IMAGE: TopicSpec = TopicSpec::fixed("hopnav/probe_source/image", 1, 2);
 /// physics: ground-truth body states (evaluation and rendering only).
 pub const BODY_STATES: TopicSpec = TopicSpec::fixed("hopnav/physics/body_states", 1, 4);
 /// physics: the jumper's altimeter.

@@ -33,6 +33,13 @@ pub struct LaunchArgs {
     /// truth into DIR, for external VO tools (enables the recorder process).
     #[arg(long, value_name = "DIR")]
     export_dataset: Option<PathBuf>,
+    /// Inject a fault (repeatable; adds to faults.inject). Kinds:
+    /// kill:PROC@3s (SIGKILL at 3 s of sim time), stall:PROC@5s+800ms (SIGSTOP, SIGCONT
+    /// after 800 ms), drop:PROC/TOPIC@10% (the publisher drops 10 % of its samples on
+    /// hopnav/PROC/TOPIC), corrupt:PROC/TOPIC@5% (garbled headers that consumers must reject),
+    /// delay:PROC@50ms (every step 50 ms late). Times also as f30 (frame 30).
+    #[arg(long, value_name = "SPEC")]
+    fault: Vec<String>,
     /// No live status line.
     #[arg(long)]
     quiet: bool,
@@ -76,6 +83,11 @@ pub fn run(args: LaunchArgs) -> ExitCode {
             .display()
             .to_string();
     }
+    config.faults.inject.extend(args.fault.iter().cloned());
+    if let Err(error) = config.faults.specs() {
+        eprintln!("error: --fault: {error}");
+        return ExitCode::from(crate::EXIT_CONFIG);
+    }
     if let Some(out) = &args.out {
         config.run.out_dir = out.display().to_string();
     }
@@ -114,7 +126,7 @@ pub fn run(args: LaunchArgs) -> ExitCode {
                 ExitCode::FAILURE
             }
         }
-        Err(error @ LaunchError::UnknownProcess { .. }) => {
+        Err(error @ (LaunchError::UnknownProcess { .. } | LaunchError::Fault(_))) => {
             eprintln!("error: {error}");
             ExitCode::from(crate::EXIT_CONFIG)
         }

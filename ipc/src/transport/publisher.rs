@@ -47,6 +47,10 @@ impl<M: Message + ZeroCopySend> Publisher<M> {
     /// Fills a loaned sample with `fill` (starting from `M::default()`), stamps it, sends it and
     /// notifies. Returns the number of subscribers reached.
     pub fn send_with(&mut self, fill: impl FnOnce(&mut M)) -> Result<usize, SendError> {
+        let action = crate::fault::on_publish(&self.topic);
+        if action == crate::fault::PublishAction::Drop {
+            return Ok(0);
+        }
         let sample = self.port.loan_uninit().map_err(|error| SendError::Loan {
             topic: self.topic.clone(),
             reason: format!("{error:?}"),
@@ -55,9 +59,14 @@ impl<M: Message + ZeroCopySend> Publisher<M> {
         let message = sample.payload_mut();
         fill(message);
         let stamp = message.stamp_mut();
-        stamp.sequence = self.next_sequence;
         stamp.publish_stamp_ns = monotonic_now_ns();
-        self.next_sequence += 1;
+        if action == crate::fault::PublishAction::Corrupt && self.next_sequence > 0 {
+            // Injected fault: a garbled header, which repeats the last sequence number.
+            stamp.sequence = self.next_sequence - 1;
+        } else {
+            stamp.sequence = self.next_sequence;
+            self.next_sequence += 1;
+        }
         let reached = sample.send().map_err(|error| SendError::Deliver {
             topic: self.topic.clone(),
             reason: format!("{error:?}"),

@@ -34,6 +34,8 @@ where
     topic: String,
     max_len: usize,
     next_sequence: u64,
+    /// The injected-fault decision for the sample being sent.
+    action: crate::fault::PublishAction,
 }
 
 impl<H: SliceHeader + ZeroCopySend> SlicePublisher<H>
@@ -64,6 +66,7 @@ where
             topic: spec.name.to_string(),
             max_len: max_len.max(1),
             next_sequence: 0,
+            action: crate::fault::PublishAction::Send,
         })
     }
 
@@ -76,6 +79,9 @@ where
         header: impl FnOnce(&mut H),
         element: impl FnMut(usize) -> H::Element,
     ) -> Result<usize, SendError> {
+        if self.dropped_by_fault() {
+            return Ok(0);
+        }
         let mut sample = self.loan(len)?.write_from_fn(element);
         *sample.user_header_mut() = H::default();
         header(sample.user_header_mut());
@@ -90,6 +96,9 @@ where
         len: usize,
         fill: impl FnOnce(&mut H, &mut [H::Element]) -> Result<(), E>,
     ) -> Result<usize, SendError> {
+        if self.dropped_by_fault() {
+            return Ok(0);
+        }
         let sample = self.loan(len)?;
         let mut sample = sample.write_from_fn(|_| H::Element::default());
         // The header is a few dozen bytes: fill a local copy, then write it into the sample,
@@ -124,6 +133,12 @@ where
         self.next_sequence = last_sequence.saturating_add(1);
     }
 
+    /// Draws the injected-fault decision for the next sample; true when it is to be dropped.
+    fn dropped_by_fault(&mut self) -> bool {
+        self.action = crate::fault::on_publish(&self.topic);
+        self.action == crate::fault::PublishAction::Drop
+    }
+
     fn loan(&self, len: usize) -> Result<UninitSlice<H>, SendError> {
         if len > self.max_len {
             return Err(SendError::SliceTooLong {
@@ -145,9 +160,14 @@ where
         mut sample: iceoryx2::sample_mut::SampleMut<IpcService, [H::Element], H>,
     ) -> Result<usize, SendError> {
         let stamp = sample.user_header_mut().stamp_mut();
-        stamp.sequence = self.next_sequence;
         stamp.publish_stamp_ns = monotonic_now_ns();
-        self.next_sequence += 1;
+        if self.action == crate::fault::PublishAction::Corrupt && self.next_sequence > 0 {
+            // Injected fault: a garbled header, which repeats the last sequence number.
+            stamp.sequence = self.next_sequence - 1;
+        } else {
+            stamp.sequence = self.next_sequence;
+            self.next_sequence += 1;
+        }
         let reached = sample.send().map_err(|error| SendError::Deliver {
             topic: self.topic.clone(),
             reason: format!("{error:?}"),

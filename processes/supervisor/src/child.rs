@@ -27,6 +27,8 @@ pub struct ChildSpec<'a> {
     pub config_path: &'a Path,
     /// Idle heartbeat period.
     pub heartbeat_period_ms: u64,
+    /// In-process faults for this child (`HOPNAV_FAULTS`), if any.
+    pub faults_env: Option<String>,
 }
 
 /// A running child.
@@ -53,6 +55,10 @@ impl ChildProcess {
             .arg("--heartbeat-ms")
             .arg(spec.heartbeat_period_ms.to_string())
             .stdin(Stdio::null());
+        match &spec.faults_env {
+            Some(faults) => command.env(hopnav_ipc::fault::FAULTS_ENV, faults),
+            None => command.env_remove(hopnav_ipc::fault::FAULTS_ENV),
+        };
         // Read before fork; the child compares it with getppid() after arming PDEATHSIG.
         let parent_pid = std::process::id() as libc::pid_t;
         // SAFETY: the closure runs in the forked child before exec and calls only

@@ -5,6 +5,9 @@ use std::path::PathBuf;
 /// A launch that failed before its frame loop could run, or a setup problem.
 #[derive(Debug, thiserror::Error)]
 pub enum LaunchError {
+    /// A fault to inject cannot be executed in this launch.
+    #[error("config key faults.inject: {0}")]
+    Fault(String),
     /// The config names a process this binary cannot run.
     #[error("config key processes.{name}: unknown process (known: {known})")]
     UnknownProcess {

@@ -17,6 +17,7 @@ use iceoryx2::waitset::WaitSetRunResult;
 
 use crate::LaunchError;
 use crate::child::{ChildProcess, ChildSpec};
+use crate::fault_injector::{FaultAction, FaultInjector};
 use crate::mission::MissionObserver;
 use crate::report::ExitRecord;
 use crate::restart::RestartDecision;
@@ -65,6 +66,8 @@ pub struct SupervisorPorts {
     pub truth: Option<Subscriber<BodyStates>>,
     /// Mission bookkeeping, when the graph runs a mission.
     pub mission: Option<MissionObserver>,
+    /// Faults to inject.
+    pub faults: FaultInjector,
 }
 
 /// State of a running launch.
@@ -81,6 +84,9 @@ pub struct FrameLoop {
     truth: Option<Subscriber<BodyStates>>,
     last_truth: Option<BodyStates>,
     mission: Option<MissionObserver>,
+    faults: FaultInjector,
+    fault_specs: Vec<hopnav_config::fault::FaultSpec>,
+    fault_actions: Vec<FaultAction>,
     period: Duration,
     started: Instant,
     next_frame: u64,
@@ -101,6 +107,7 @@ impl FrameLoop {
         let stages: Vec<u32> = slots.iter().map(|slot| slot.config.stage).collect();
         let scheduler = FrameScheduler::new(&stages, config.run.lockstep);
         let period = Duration::from_secs_f64(config.run.frame_period_s());
+        let fault_specs = config.faults.specs().unwrap_or_default();
         Self {
             stats: LoopStats {
                 slots,
@@ -120,6 +127,9 @@ impl FrameLoop {
             truth: ports.truth,
             last_truth: None,
             mission: ports.mission,
+            faults: ports.faults,
+            fault_specs,
+            fault_actions: Vec::new(),
             period,
             started: Instant::now(),
             next_frame: 0,
@@ -127,15 +137,53 @@ impl FrameLoop {
         }
     }
 
-    /// The measurements; drops the ports.
-    pub fn into_stats(self) -> LoopStats {
-        self.stats
+    /// The measurements and the fault records; drops the ports.
+    pub fn into_stats(self) -> (LoopStats, Vec<crate::fault_injector::FaultRecord>) {
+        (self.stats, self.faults.into_records())
+    }
+
+    /// Sends the signals the fault injector asked for.
+    fn execute_fault_actions(&mut self) {
+        for action in std::mem::take(&mut self.fault_actions) {
+            let (slot_index, signal) = match action {
+                FaultAction::Kill(slot) => (slot, libc::SIGKILL),
+                FaultAction::Stop(slot) => (slot, libc::SIGSTOP),
+                FaultAction::Continue(slot) => (slot, libc::SIGCONT),
+            };
+            let Some(pid) = self.stats.slots[slot_index]
+                .child
+                .as_ref()
+                .map(ChildProcess::pid)
+            else {
+                continue; // already down: nothing to signal
+            };
+            // SAFETY: kill(2) only sends a signal; `pid` is our own unreaped child (reaping
+            // clears `child`), so the pid cannot have been reused by another process.
+            let result = unsafe { libc::kill(pid as libc::pid_t, signal) };
+            if result != 0 {
+                eprintln!(
+                    "\nfault injection: signal {signal} to {} (pid {pid}) failed: {}",
+                    self.stats.slots[slot_index].name,
+                    std::io::Error::last_os_error()
+                );
+            }
+        }
     }
 
     fn spawn(&mut self, slot_index: usize) -> Result<(), LaunchError> {
         let heartbeat_period_ms = (self.period.as_millis() as u64).max(1);
         let slot = &mut self.stats.slots[slot_index];
+        let faults_env = {
+            let own: Vec<_> = self
+                .fault_specs
+                .iter()
+                .filter(|spec| spec.process == slot.name)
+                .cloned()
+                .collect();
+            hopnav_ipc::fault::encode_env(self.config.faults.seed, slot.incarnation, &own)
+        };
         let spec = ChildSpec {
+            faults_env,
             executable: &self.executable,
             name: &slot.name,
             run_id: self.namespace.run_id(),
@@ -198,9 +246,11 @@ impl FrameLoop {
             match waitset
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, HOUSEKEEPING)
             {
-                Ok(WaitSetRunResult::Interrupt | WaitSetRunResult::TerminationRequest) => {
+                Ok(WaitSetRunResult::TerminationRequest) => {
                     return Err(LaunchError::Wait("interrupted during start-up".into()));
                 }
+                // A signal that only cut the wait short; termination shows up on the next wait.
+                Ok(WaitSetRunResult::Interrupt) => continue,
                 Ok(_) => {}
                 Err(error) => return Err(LaunchError::Wait(format!("{error:?}"))),
             }
@@ -226,9 +276,9 @@ impl FrameLoop {
             match waitset
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)
             {
-                Ok(WaitSetRunResult::Interrupt | WaitSetRunResult::TerminationRequest) => {
-                    return LoopEnd::Interrupted;
-                }
+                Ok(WaitSetRunResult::TerminationRequest) => return LoopEnd::Interrupted,
+                // A signal that only cut the wait short; termination shows up on the next wait.
+                Ok(WaitSetRunResult::Interrupt) => continue,
                 Ok(_) => {}
                 Err(error) => {
                     return LoopEnd::Stopped(format!("supervisor wait failed: {error:?}"));
@@ -238,6 +288,9 @@ impl FrameLoop {
             self.reap_children();
             self.watchdog();
             self.restart_due();
+            self.faults
+                .due_resumes(Instant::now(), &mut self.fault_actions);
+            self.execute_fault_actions();
             self.observe_mission();
 
             if self.next_frame < frames {
@@ -288,6 +341,14 @@ impl FrameLoop {
     fn start_frame(&mut self) {
         let frame_index = self.next_frame;
         self.next_frame += 1;
+        let since_start_s = self.started.elapsed().as_secs_f64();
+        self.faults.on_frame_start(
+            frame_index,
+            Instant::now(),
+            since_start_s,
+            &mut self.fault_actions,
+        );
+        self.execute_fault_actions();
         let (releases, outcomes) = self.scheduler.start_frame(frame_index, monotonic_now_ns());
         self.record_outcomes(&outcomes);
         self.release(&releases);
@@ -369,6 +430,13 @@ impl FrameLoop {
         }
         slot.last_heartbeat = Instant::now();
         slot.record_rejected(heartbeat.rejected_samples);
+        let restarted = slot.incarnation > 0
+            && matches!(slot.phase, Phase::Starting { .. })
+            && heartbeat.state() == Some(ProcessState::Ready);
+        self.faults.on_alive(slot_index, Instant::now(), restarted);
+        let Some(slot) = self.stats.slots.get_mut(slot_index) else {
+            return;
+        };
         match heartbeat.state() {
             Some(ProcessState::Ready) if matches!(slot.phase, Phase::Starting { .. }) => {
                 slot.phase = Phase::Running;
@@ -413,6 +481,8 @@ impl FrameLoop {
             } else {
                 exit.to_string()
             };
+            self.faults.on_exit(slot_index, Instant::now(), &reason);
+            let slot = &mut self.stats.slots[slot_index];
             slot.exits.push(ExitRecord {
                 frame_index: self.next_frame.saturating_sub(1),
                 at_s: self.started.elapsed().as_secs_f64(),

@@ -13,6 +13,7 @@ use hopnav_metrics::LatencySummary;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
+use crate::fault_injector::FaultInjector;
 use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
 use crate::mission::MissionObserver;
 use crate::report::RunReport;
@@ -124,7 +125,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     );
 
     let loop_started = Instant::now();
-    let (frame_loop, end, mission) = {
+    let ((frame_loop, fault_records), end, mission) = {
         let node = namespace.create_node("supervisor")?;
         let heartbeats = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT)?;
         let step_publishers = slots
@@ -146,6 +147,14 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         let mission = runs_mission
             .then(|| MissionObserver::open(&node, config))
             .flatten();
+        let specs = config
+            .faults
+            .specs()
+            .map_err(|error| LaunchError::Fault(error.to_string()))?;
+        let faults = FaultInjector::new(&specs, config.run.frame_rate_hz, |name| {
+            slots.iter().position(|slot| slot.name == name)
+        })
+        .map_err(LaunchError::Fault)?;
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
@@ -153,6 +162,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
                 step_publishers,
                 truth,
                 mission,
+                faults,
             },
             namespace.clone(),
             options.executable.clone(),
@@ -171,7 +181,10 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         // namespace clean-up below.
         let mission = frame_loop.take_mission().map(|mut mission| {
             mission.observe();
-            let title = format!("hopnav {} mission, run {run_id}", config.mission.mode.name());
+            let title = format!(
+                "hopnav {} mission, run {run_id}",
+                config.mission.mode.name()
+            );
             MissionSummary {
                 report: mission.report(),
                 figure: mission.figure(&title),
@@ -238,6 +251,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         processes: frame_loop.slots.iter().map(Slot::report).collect(),
         stale_runs_cleaned: stale.dead_runs,
         leftover_files,
+        faults: fault_records,
         mission: mission_report,
         mission_figure,
         config: serde_json::to_value(config).unwrap_or(serde_json::Value::Null),

@@ -8,6 +8,7 @@
 
 mod child;
 mod error;
+pub mod fault_injector;
 mod frame_loop;
 mod launch;
 pub mod mission;

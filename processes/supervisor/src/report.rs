@@ -75,6 +75,8 @@ pub struct RunReport {
     pub stale_runs_cleaned: Vec<String>,
     /// Files of this launch's namespace left after shutdown (0 unless something leaked).
     pub leftover_files: usize,
+    /// Injected faults and what became of them.
+    pub faults: Vec<crate::fault_injector::FaultRecord>,
     /// The mission outcome (absent when the graph has no planner).
     pub mission: Option<crate::mission_report::MissionReport>,
     /// The Fig.-6 map of the mission, if one was drawn.
@@ -141,6 +143,21 @@ impl RunReport {
                 process.restarts,
                 process.hangs_detected,
                 process.rejected_samples
+            )?;
+        }
+        for fault in &self.faults {
+            let seconds =
+                |value: Option<f64>| value.map_or("-".to_owned(), |s| format!("{:.0} ms", s * 1e3));
+            writeln!(
+                out,
+                "fault {:<28} frame {:>5}  detected after {:>8}  recovered after {:>8}  {}",
+                fault.fault,
+                fault
+                    .injected_frame
+                    .map_or("-".to_owned(), |frame| frame.to_string()),
+                seconds(fault.detected_after_s),
+                seconds(fault.recovered_after_s),
+                fault.effect
             )?;
         }
         if let Some(mission) = &self.mission {

@@ -47,7 +47,9 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
 
     let stall = fault(&report, "stall:probe_sink@f30+300ms");
     assert_eq!(stall["injected_frame"], 30);
-    let resumed_after_s = stall["recovered_after_s"].as_f64().expect("stall recovered");
+    let resumed_after_s = stall["recovered_after_s"]
+        .as_f64()
+        .expect("stall recovered");
     assert!(resumed_after_s >= 0.3, "{stall}");
 
     // Garbled headers are rejected and counted by the consumer.
@@ -102,7 +104,13 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
     let output = launch(
         &out,
         &run,
-        &[&probe_config(), "--frames", "5", "--fault", "kill:mapper@1s"],
+        &[
+            &probe_config(),
+            "--frames",
+            "5",
+            "--fault",
+            "kill:mapper@1s",
+        ],
     );
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -110,7 +118,13 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
     let output = launch(
         &out,
         &run,
-        &[&probe_config(), "--frames", "5", "--fault", "kill:probe_sink"],
+        &[
+            &probe_config(),
+            "--frames",
+            "5",
+            "--fault",
+            "kill:probe_sink",
+        ],
     );
     assert_eq!(output.status.code(), Some(2));
 }

@@ -2,6 +2,7 @@
 //! every child, so all processes share one build and one message layout.
 
 mod bench_cmd;
+mod chaos_cmd;
 mod compare_cmd;
 mod eval_cmd;
 mod launch_cmd;
@@ -37,6 +38,9 @@ enum Command {
     /// Cooperative vs rover-only missions over N seeded terrains (the paper's comparison):
     /// success, executed path, replans, expansions; CSV, JSON and a Fig.-6 map.
     Compare(compare_cmd::CompareArgs),
+    /// Random faults over N launches: injected, detected and recovered faults, recovery
+    /// times, mission outcome, leaked shared-memory files.
+    Chaos(chaos_cmd::ChaosArgs),
     /// Accuracy evaluations against ground truth.
     #[command(subcommand)]
     Eval(eval_cmd::EvalCommand),
@@ -54,5 +58,6 @@ fn main() -> ExitCode {
         Command::Eval(command) => eval_cmd::run(command),
         Command::Plan(args) => plan_cmd::run(args),
         Command::Compare(args) => compare_cmd::run(args),
+        Command::Chaos(args) => chaos_cmd::run(args),
     }
 }

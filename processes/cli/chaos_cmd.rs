@@ -1,0 +1,338 @@
+//! `hopnav chaos`: random faults over N launches. Each launch gets a few faults drawn from the
+//! enabled processes and the chosen kinds; the table shows what was injected, detected and
+//! recovered, how long recovery took, the mission outcome, and hopnav's shared-memory and
+//! node files counted before and after.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use hopnav_supervisor::fault_injector::FaultRecord;
+use hopnav_supervisor::{LaunchOptions, launch};
+use serde::Serialize;
+
+use crate::registry;
+
+#[derive(Debug, Args)]
+pub struct ChaosArgs {
+    /// TOML file overriding the embedded defaults (the graph to torment).
+    config: Option<PathBuf>,
+    /// Launches to run.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    runs: u64,
+    /// Seed of the fault draw (and of in-process drop/corrupt decisions).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Faults per launch.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    faults_per_run: u64,
+    /// Fault kinds to draw from (comma-separated): kill, stall, hang, drop, corrupt, delay.
+    /// A stall is shorter than the watchdog; a hang outlasts it.
+    #[arg(
+        long,
+        default_value = "kill,stall,hang,drop,corrupt,delay",
+        value_delimiter = ','
+    )]
+    kinds: Vec<String>,
+    /// Frames per launch (lockstep).
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(20..=1_000_000))]
+    frames: u64,
+    /// Folder for the run folders and chaos.json.
+    #[arg(long, default_value = "runs/chaos")]
+    out: PathBuf,
+}
+
+#[derive(Debug, Clone, Serialize)]
+struct ChaosRun {
+    run: u64,
+    outcome: String,
+    mission: Option<String>,
+    faults: Vec<FaultRecord>,
+    hopnav_files_before: usize,
+    hopnav_files_after: usize,
+    leftover_files: usize,
+    panics: usize,
+}
+
+/// SplitMix64: a tiny seeded generator for the fault draw.
+struct Draw(u64);
+
+impl Draw {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n.max(1)
+    }
+}
+
+/// The topic each process publishes its main output on (drop/corrupt targets).
+fn main_topic(process: &str) -> Option<&'static str> {
+    Some(match process {
+        "physics" => "physics/body_states",
+        "camera" => "camera/jumper",
+        "jumper_vo" => "jumper_vo/pose",
+        "rover_vo" => "rover_vo/pose",
+        "mapper" => "mapper/cells",
+        "planner" => "planner/drive",
+        "probe_source" => "probe_source/image",
+        _ => return None,
+    })
+}
+
+fn draw_fault(
+    draw: &mut Draw,
+    kinds: &[String],
+    processes: &[String],
+    frames: u64,
+    watchdog_ms: u64,
+) -> Option<String> {
+    let kind = &kinds[draw.below(kinds.len() as u64) as usize];
+    let process = &processes[draw.below(processes.len() as u64) as usize];
+    // Leave the first and last tenth of the launch alone: start-up and shutdown are not the
+    // subject here.
+    let frame = frames / 10 + draw.below((frames * 8 / 10).max(1));
+    Some(match kind.as_str() {
+        "kill" => format!("kill:{process}@f{frame}"),
+        "stall" => format!(
+            "stall:{process}@f{frame}+{}ms",
+            50 + draw.below((watchdog_ms / 2).max(1))
+        ),
+        "hang" => format!("stall:{process}@f{frame}+{}ms", watchdog_ms * 10),
+        "drop" => format!("drop:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
+        "corrupt" => format!("corrupt:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
+        "delay" => format!("delay:{process}@{}ms", 5 + draw.below(40)),
+        _ => return None,
+    })
+}
+
+pub fn run(args: ChaosArgs) -> ExitCode {
+    let loaded = match &args.config {
+        Some(path) => hopnav_config::load_file(path),
+        None => hopnav_config::load(None),
+    };
+    let base = match loaded {
+        Ok(config) => config,
+        Err(error) => {
+            eprintln!("error: {error}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+    };
+    if let Err(error) = registry::check_sections(&base) {
+        eprintln!("error: {error}");
+        return ExitCode::from(crate::EXIT_CONFIG);
+    }
+    const KINDS: [&str; 6] = ["kill", "stall", "hang", "drop", "corrupt", "delay"];
+    if let Some(bad) = args
+        .kinds
+        .iter()
+        .find(|kind| !KINDS.contains(&kind.as_str()))
+    {
+        eprintln!(
+            "error: --kinds: unknown kind {bad:?} (known: {})",
+            KINDS.join(", ")
+        );
+        return ExitCode::from(crate::EXIT_CONFIG);
+    }
+    let processes: Vec<String> = base
+        .processes
+        .iter()
+        .filter(|(_, process)| process.enabled)
+        .map(|(name, _)| name.clone())
+        .collect();
+    let executable = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(error) => {
+            eprintln!("error: cannot find the hopnav executable: {error}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let watchdog_ms =
+        (base.watchdog.heartbeat_timeout_frames as f64 * base.run.frame_period_s() * 1e3) as u64;
+    let mut draw = Draw(args.seed);
+    let mut runs = Vec::new();
+    for run in 0..args.runs {
+        let mut config = base.clone();
+        config.run.lockstep = true;
+        config.run.frames = args.frames;
+        config.run.out_dir = args.out.display().to_string();
+        config.mission.stop_on_goal = false;
+        config.faults.seed = args.seed.wrapping_add(run);
+        let mut faults = Vec::new();
+        let mut attempts = 0;
+        while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
+            attempts += 1;
+            if let Some(fault) =
+                draw_fault(&mut draw, &args.kinds, &processes, args.frames, watchdog_ms)
+            {
+                faults.push(fault);
+            }
+        }
+        config.faults.inject = faults.clone();
+        eprintln!("[{}/{}] {}", run + 1, args.runs, faults.join(" "));
+        let before = hopnav_ipc::namespace::hopnav_files().len();
+        let outcome = launch(LaunchOptions {
+            config,
+            executable: executable.clone(),
+            known_processes: registry::names(),
+            run_id: None,
+            show_status: false,
+        });
+        let after = hopnav_ipc::namespace::hopnav_files().len();
+        let record = match outcome {
+            Ok(outcome) => {
+                let panics = count_panics(&outcome.report);
+                ChaosRun {
+                    run,
+                    outcome: outcome.report.outcome.clone(),
+                    mission: outcome.report.mission.as_ref().map(|mission| {
+                        if mission.goal_reached {
+                            "goal reached".to_owned()
+                        } else {
+                            format!(
+                                "{} m to go",
+                                mission
+                                    .final_distance_to_goal_m
+                                    .map_or("?".into(), |m| format!("{m:.1}"))
+                            )
+                        }
+                    }),
+                    faults: outcome.report.faults.clone(),
+                    hopnav_files_before: before,
+                    hopnav_files_after: after,
+                    leftover_files: outcome.report.leftover_files,
+                    panics,
+                }
+            }
+            Err(error) => ChaosRun {
+                run,
+                outcome: format!("launch failed: {error}"),
+                mission: None,
+                faults: Vec::new(),
+                hopnav_files_before: before,
+                hopnav_files_after: after,
+                leftover_files: 0,
+                panics: 0,
+            },
+        };
+        runs.push(record);
+    }
+    print_table(&runs, base.run.frame_period_s());
+    let path = args.out.join("chaos.json");
+    let json = serde_json::to_string_pretty(&runs).unwrap_or_default();
+    if let Err(error) =
+        std::fs::create_dir_all(&args.out).and_then(|()| std::fs::write(&path, json))
+    {
+        eprintln!("error: cannot write {}: {error}", path.display());
+        return ExitCode::FAILURE;
+    }
+    println!("details: {}", path.display());
+    let clean = runs.iter().all(|run| {
+        run.outcome.starts_with("completed") && run.leftover_files == 0 && run.panics == 0
+    });
+    if clean {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Exits whose reason shows a Rust panic (exit code 101).
+fn count_panics(report: &hopnav_supervisor::report::RunReport) -> usize {
+    report
+        .processes
+        .iter()
+        .flat_map(|process| process.exits.iter())
+        .filter(|exit| exit.reason.contains("code 101"))
+        .count()
+}
+
+fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(
+        out,
+        "\n{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<20} outcome",
+        "run",
+        "injected",
+        "detected",
+        "recovered",
+        "recover p50",
+        "recover max",
+        "files b/a",
+        "panics",
+        "mission"
+    );
+    let mut all_recoveries = Vec::new();
+    let (mut injected_total, mut recovered_total, mut kills, mut kills_fast) = (0, 0, 0, 0);
+    for run in runs {
+        let fired: Vec<&FaultRecord> = run
+            .faults
+            .iter()
+            .filter(|fault| fault.injected_frame.is_some())
+            .collect();
+        let detected = fired
+            .iter()
+            .filter(|fault| fault.detected_after_s.is_some())
+            .count();
+        let mut recoveries: Vec<f64> = fired
+            .iter()
+            .filter_map(|fault| fault.recovered_after_s)
+            .collect();
+        recoveries.sort_by(f64::total_cmp);
+        for fault in &fired {
+            if fault.fault.starts_with("kill:") {
+                kills += 1;
+                if fault
+                    .recovered_after_s
+                    .is_some_and(|s| s <= 2.0 * frame_period_s)
+                {
+                    kills_fast += 1;
+                }
+            }
+        }
+        injected_total += run.faults.len();
+        recovered_total += recoveries.len();
+        all_recoveries.extend(recoveries.iter().copied());
+        let ms =
+            |value: Option<&f64>| value.map_or("-".to_owned(), |s| format!("{:.0} ms", s * 1e3));
+        let _ = writeln!(
+            out,
+            "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<20} {}",
+            run.run,
+            run.faults.len(),
+            detected,
+            format!("{}/{}", recoveries.len(), fired.len()),
+            ms(recoveries.get(recoveries.len() / 2)),
+            ms(recoveries.last()),
+            format!("{}/{}", run.hopnav_files_before, run.hopnav_files_after),
+            run.panics,
+            run.mission.as_deref().unwrap_or("-"),
+            run.outcome
+        );
+    }
+    all_recoveries.sort_by(f64::total_cmp);
+    let leaked: usize = runs.iter().map(|run| run.leftover_files).sum();
+    let _ = writeln!(
+        out,
+        "\n{} faults injected ({} fired with a time), {} recovered; recovery p50 {}, max {}; kills recovered within 2 frame periods: {kills_fast}/{kills}; leaked files {leaked}; panics {}",
+        injected_total,
+        runs.iter()
+            .flat_map(|run| &run.faults)
+            .filter(|fault| fault.injected_frame.is_some())
+            .count(),
+        recovered_total,
+        all_recoveries
+            .get(all_recoveries.len() / 2)
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
+        all_recoveries
+            .last()
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
+        runs.iter().map(|run| run.panics).sum::<usize>()
+    );
+}

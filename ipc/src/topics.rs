@@ -81,6 +81,9 @@ pub const JUMPER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/cloud", 1
 pub const ROVER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/rover_vo/cloud", 1, 4);
 /// mapper: changed cells only.
 pub const MAP_UPDATES: TopicSpec = TopicSpec::fixed("hopnav/mapper/cells", 0, 16);
+/// mapper: every known cell, every few frames. History 1: a restarted planner reads the
+/// whole map at once, and a planner that missed updates resynchronises.
+pub const MAP_SNAPSHOT: TopicSpec = TopicSpec::fixed("hopnav/mapper/snapshot", 1, 2);
 /// planner: the current path.
 pub const PATH: TopicSpec = TopicSpec::fixed("hopnav/planner/path", 1, 2);
 /// planner → physics: rover drive command.
@@ -111,6 +114,7 @@ mod tests {
             &JUMPER_CLOUD,
             &ROVER_CLOUD,
             &MAP_UPDATES,
+            &MAP_SNAPSHOT,
             &PATH,
             &DRIVE_COMMAND,
             &JUMP_REQUEST,

@@ -78,6 +78,7 @@ pub struct PlannerProcess {
     /// Changes that arrived before the navigator existed (no rover pose yet).
     early_changes: Vec<CellChange>,
     map_updates: SliceSubscriber<MapHeader>,
+    map_snapshots: SliceSubscriber<MapHeader>,
     rover_poses: Subscriber<PoseEstimate>,
     jumper_poses: Subscriber<PoseEstimate>,
     paths: SlicePublisher<PathHeader>,
@@ -115,29 +116,37 @@ fn mission_state(decision: Option<&Decision>) -> MissionState {
 }
 
 impl PlannerProcess {
-    /// Reads every map update of this frame; the first header fixes the geometry.
+    /// Reads every map snapshot and update of this frame; the first header fixes the
+    /// geometry. Snapshots come first: they carry the whole map (history gives a restarted
+    /// planner the latest one), updates the changes since.
     fn drain_map_updates(&mut self) -> Result<(), PlannerProcessError> {
+        while let Some(sample) = self.map_snapshots.receive()? {
+            self.take_cells(sample.header(), sample.elements());
+        }
         while let Some(sample) = self.map_updates.receive()? {
-            let header = sample.header();
-            if self.geometry.is_none() {
-                self.geometry = MapGeometry::new(
-                    header.origin_x_m,
-                    header.origin_y_m,
-                    header.cell_size_m,
-                    header.width_cells,
-                    header.height_cells,
-                )
-                .ok();
-            }
-            let changes = sample.elements().iter().filter_map(cell_change);
-            match self.navigator.as_mut() {
-                Some(navigator) => {
-                    self.refused_changes += navigator.queue_changes(changes) as u64;
-                }
-                None => self.early_changes.extend(changes),
-            }
+            self.take_cells(sample.header(), sample.elements());
         }
         Ok(())
+    }
+
+    fn take_cells(&mut self, header: &MapHeader, cells: &[CellUpdate]) {
+        if self.geometry.is_none() {
+            self.geometry = MapGeometry::new(
+                header.origin_x_m,
+                header.origin_y_m,
+                header.cell_size_m,
+                header.width_cells,
+                header.height_cells,
+            )
+            .ok();
+        }
+        let changes = cells.iter().filter_map(cell_change);
+        match self.navigator.as_mut() {
+            Some(navigator) => {
+                self.refused_changes += navigator.queue_changes(changes) as u64;
+            }
+            None => self.early_changes.extend(changes),
+        }
     }
 
     fn ensure_navigator(&mut self) -> Result<(), PlannerProcessError> {
@@ -226,6 +235,7 @@ impl Process for PlannerProcess {
             geometry: None,
             early_changes: Vec::with_capacity(4096),
             map_updates: SliceSubscriber::open(node, &topics::MAP_UPDATES)?,
+            map_snapshots: SliceSubscriber::open(node, &topics::MAP_SNAPSHOT)?,
             rover_poses: Subscriber::open(node, &topics::ROVER_POSE)?,
             jumper_poses: Subscriber::open(node, &topics::JUMPER_POSE)?,
             paths: SlicePublisher::open(node, &topics::PATH, MAX_PATH_POINTS)?,
@@ -276,6 +286,7 @@ impl Process for PlannerProcess {
 
     fn rejected_samples(&self) -> u64 {
         self.map_updates.rejected().total()
+            + self.map_snapshots.rejected().total()
             + self.rover_poses.rejected().total()
             + self.jumper_poses.rejected().total()
             + self.refused_changes

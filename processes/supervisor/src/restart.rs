@@ -103,13 +103,16 @@ impl RestartTracker {
                 window: self.window,
             };
         }
-        // Backoff doubles with each restart still inside the window, so a crash loop slows
-        // down while an isolated crash restarts quickly.
-        let exponent = self.recent_restarts.len().min(20) as u32;
-        let backoff = self
-            .backoff_initial
-            .saturating_mul(1 << exponent)
-            .min(self.backoff_max);
+        // An isolated crash restarts at once (a restart must land within a frame or two); each
+        // further restart still inside the window doubles the delay from backoff_initial, so a
+        // crash loop slows down.
+        let backoff = match self.recent_restarts.len() {
+            0 => Duration::ZERO,
+            earlier => self
+                .backoff_initial
+                .saturating_mul(1 << (earlier - 1).min(20) as u32)
+                .min(self.backoff_max),
+        };
         self.recent_restarts.push_back(now);
         self.total_restarts += 1;
         RestartDecision::RestartAfter(backoff)
@@ -163,7 +166,7 @@ mod tests {
                 other => panic!("unexpected {other:?}"),
             })
             .collect();
-        assert_eq!(delays, vec![100, 200, 350, 350]);
+        assert_eq!(delays, vec![0, 100, 200, 350]);
         assert_eq!(tracker.total_restarts(), 4);
     }
 
@@ -189,7 +192,7 @@ mod tests {
         let later = start + Duration::from_secs(11);
         assert!(matches!(
             tracker.on_exit(&ExitKind::Failed(1), later),
-            RestartDecision::RestartAfter(delay) if delay.as_millis() == 100
+            RestartDecision::RestartAfter(delay) if delay.is_zero()
         ));
     }
 }

@@ -171,10 +171,11 @@ mod tests {
             cell.add([0.0, 0.0, z], None, 1, 0.3);
         }
         assert_eq!(cell.count, 100);
-        let low: Vec<f32> = cell.low_points().iter().map(|p| p[2]).collect();
-        let high: Vec<f32> = cell.high_points().iter().map(|p| p[2]).collect();
-        assert_eq!(low, vec![0.0, 0.01, 0.02, 0.03]);
-        assert_eq!(high, vec![0.99, 0.98, 0.97, 0.96, 0.95, 0.94]);
+        let low: Vec<i32> = cell.low_points().iter().map(|p| (p[2] * 100.0).round() as i32).collect();
+        let high: Vec<i32> =
+            cell.high_points().iter().map(|p| (p[2] * 100.0).round() as i32).collect();
+        assert_eq!(low, vec![0, 1, 2, 3]);
+        assert_eq!(high, vec![99, 98, 97, 96, 95, 94]);
         assert_eq!(cell.count_by_robot[1], 100);
         assert_eq!(cell.observed_by, 1 << 1);
     }
@@ -185,7 +186,7 @@ mod tests {
         cell.add([0.0, 0.0, 2.5], Some(0.5), 2, 0.3);
         cell.add([0.0, 0.0, 2.1], Some(0.1), 2, 0.3);
         assert_eq!((cell.measured_count, cell.measured_high), (2, 1));
-        assert_eq!(cell.low_points()[0][2], 2.0);
+        assert!((cell.low_points()[0][2] - 2.0).abs() < 1e-6);
         assert!((cell.mean_height_m().unwrap() - 0.3).abs() < 1e-6);
         assert!(cell.high_points().is_empty());
     }

@@ -416,3 +416,7 @@ impl FeatureMap {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "map_tests.rs"]
+mod tests;

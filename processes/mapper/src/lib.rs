@@ -34,3 +34,5 @@ pub mod geometry;
 pub mod ground;
 pub mod inflation;
 pub mod map;
+pub mod snapshot;
+pub mod view;

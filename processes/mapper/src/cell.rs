@@ -171,9 +171,16 @@ mod tests {
             cell.add([0.0, 0.0, z], None, 1, 0.3);
         }
         assert_eq!(cell.count, 100);
-        let low: Vec<i32> = cell.low_points().iter().map(|p| (p[2] * 100.0).round() as i32).collect();
-        let high: Vec<i32> =
-            cell.high_points().iter().map(|p| (p[2] * 100.0).round() as i32).collect();
+        let low: Vec<i32> = cell
+            .low_points()
+            .iter()
+            .map(|p| (p[2] * 100.0).round() as i32)
+            .collect();
+        let high: Vec<i32> = cell
+            .high_points()
+            .iter()
+            .map(|p| (p[2] * 100.0).round() as i32)
+            .collect();
         assert_eq!(low, vec![0, 1, 2, 3]);
         assert_eq!(high, vec![99, 98, 97, 96, 95, 94]);
         assert_eq!(cell.count_by_robot[1], 100);

@@ -103,7 +103,12 @@ impl MapperConfig {
         if let Some(h) = self.height_cells {
             check_u64("height_cells", u64::from(h), 1, MAX_CELLS)?;
         }
-        check_f64("traversable_height_m", self.traversable_height_m, 0.01, 10.0)?;
+        check_f64(
+            "traversable_height_m",
+            self.traversable_height_m,
+            0.01,
+            10.0,
+        )?;
         check_f64(
             "max_feature_height_m",
             self.max_feature_height_m,
@@ -201,12 +206,20 @@ mod tests {
             cell_size_m: f64::NAN,
             ..MapperConfig::default()
         };
-        assert!(cfg.validate().unwrap_err().to_string().contains("mapper.cell_size_m"));
+        assert!(
+            cfg.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("mapper.cell_size_m")
+        );
         let cfg = MapperConfig {
             cell_size_m: 0.05,
             ..MapperConfig::default()
         };
-        let err = cfg.resolve_geometry((2048.0, 2048.0)).unwrap_err().to_string();
+        let err = cfg
+            .resolve_geometry((2048.0, 2048.0))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("mapper.width_cells"), "{err}");
     }
 }

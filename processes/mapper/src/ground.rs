@@ -28,9 +28,7 @@ pub struct GroundPlane {
 impl GroundPlane {
     /// Ground height at `(x_m, y_m)`, metres.
     pub fn height_at(&self, x_m: f64, y_m: f64) -> f64 {
-        self.z0_m
-            + self.slope_x * (x_m - self.centre_x_m)
-            + self.slope_y * (y_m - self.centre_y_m)
+        self.z0_m + self.slope_x * (x_m - self.centre_x_m) + self.slope_y * (y_m - self.centre_y_m)
     }
 }
 
@@ -151,7 +149,11 @@ mod tests {
         for i in 0..20 {
             for j in 0..20 {
                 let (x, y) = (f64::from(i) * 0.25, f64::from(j) * 0.25);
-                let rock = if (8..11).contains(&i) && (8..11).contains(&j) { 0.6 } else { 0.0 };
+                let rock = if (8..11).contains(&i) && (8..11).contains(&j) {
+                    0.6
+                } else {
+                    0.0
+                };
                 scratch.samples.push([x, y, 0.3 * x - 0.1 * y + 1.0 + rock]);
             }
         }
@@ -164,7 +166,9 @@ mod tests {
     #[test]
     fn collinear_samples_give_a_flat_ground() {
         let mut scratch = GroundScratch::with_capacity(8);
-        scratch.samples.extend([[0.0, 0.0, 1.0], [1.0, 0.0, 2.0], [2.0, 0.0, 3.0]]);
+        scratch
+            .samples
+            .extend([[0.0, 0.0, 1.0], [1.0, 0.0, 2.0], [2.0, 0.0, 3.0]]);
         let plane = fit_ground(&mut scratch, 0.0, 0.0).expect("plane");
         assert_eq!((plane.slope_x, plane.slope_y), (0.0, 0.0));
         assert_eq!(plane.z0_m, 1.0);

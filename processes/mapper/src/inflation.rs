@@ -52,7 +52,12 @@ mod tests {
     #[test]
     fn cost_falls_with_distance_inside_the_radius() {
         let kernel = inflation_kernel(0.5, 1.0, 2000);
-        let cost = |dx, dy| kernel.iter().find(|e| (e.dx, e.dy) == (dx, dy)).map(|e| e.cost);
+        let cost = |dx, dy| {
+            kernel
+                .iter()
+                .find(|e| (e.dx, e.dy) == (dx, dy))
+                .map(|e| e.cost)
+        };
         assert_eq!(cost(1, 0), Some(1333));
         assert!(cost(1, 1) < cost(1, 0));
         assert_eq!(cost(2, 0), Some(667));

@@ -34,5 +34,6 @@ pub mod geometry;
 pub mod ground;
 pub mod inflation;
 pub mod map;
+pub mod process;
 pub mod snapshot;
 pub mod view;

@@ -369,8 +369,8 @@ impl FeatureMap {
             .high_points()
             .iter()
             .filter(|p| {
-                let height = (f64::from(p[2]) - plane.height_at(f64::from(p[0]), f64::from(p[1])))
-                    as f32;
+                let height =
+                    (f64::from(p[2]) - plane.height_at(f64::from(p[0]), f64::from(p[1]))) as f32;
                 height > t.traversable_height_m && height <= t.max_feature_height_m
             })
             .count() as u32
@@ -390,7 +390,10 @@ impl FeatureMap {
         let (x, y) = self.geometry.coords(index);
         let mut extra_cost = 0;
         for entry in &self.kernel {
-            let (nx, ny) = (x as i64 + i64::from(entry.dx), y as i64 + i64::from(entry.dy));
+            let (nx, ny) = (
+                x as i64 + i64::from(entry.dx),
+                y as i64 + i64::from(entry.dy),
+            );
             if nx < 0
                 || ny < 0
                 || nx >= i64::from(self.geometry.width_cells)

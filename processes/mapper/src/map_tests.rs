@@ -62,13 +62,20 @@ fn class_at(map: &FeatureMap, x_m: f64, y_m: f64) -> CellClass {
 
 fn assert_rock_with_ring(map: &FeatureMap) {
     for (x, y) in [(3.25, 3.25), (3.75, 3.25), (3.25, 3.75), (3.75, 3.75)] {
-        assert_eq!(class_at(map, x, y), CellClass::Obstacle, "rock cell ({x}, {y})");
+        assert_eq!(
+            class_at(map, x, y),
+            CellClass::Obstacle,
+            "rock cell ({x}, {y})"
+        );
     }
     // One and two cells (0.5 m, 1.0 m) from the rock: inflated, cost falling with distance.
     // Rock cells are x, y ∈ {22, 23}.
     let near = map.cell_state(21, 22).expect("inside");
     let far = map.cell_state(20, 22).expect("inside");
-    assert_eq!((near.class, far.class), (CellClass::Inflated, CellClass::Inflated));
+    assert_eq!(
+        (near.class, far.class),
+        (CellClass::Inflated, CellClass::Inflated)
+    );
     assert!(near.extra_cost > far.extra_cost && far.extra_cost > 0);
     // Everything else on the slope: free.
     let mut obstacles = 0;
@@ -121,7 +128,11 @@ fn low_rock_below_traversable_height_stays_free() {
         for y in 8..32 {
             for x in 8..32 {
                 let state = map.cell_state(x, y).expect("inside");
-                assert_eq!(state.class, CellClass::Free, "({x}, {y}) measured {measured}");
+                assert_eq!(
+                    state.class,
+                    CellClass::Free,
+                    "({x}, {y}) measured {measured}"
+                );
                 assert_eq!(state.extra_cost, 0);
             }
         }
@@ -160,7 +171,10 @@ fn observers_are_recorded_per_robot() {
     map.update();
     let both = map.cell_state(16, 16).expect("inside");
     let jumper_only = map.cell_state(18, 16).expect("inside");
-    assert_eq!(both.observed_by, (1 << Robot::Jumper.code()) | (1 << Robot::Rover.code()));
+    assert_eq!(
+        both.observed_by,
+        (1 << Robot::Jumper.code()) | (1 << Robot::Rover.code())
+    );
     assert_eq!(jumper_only.observed_by, 1 << Robot::Jumper.code());
     let stats = map.cell_stats(16, 16).expect("inside");
     assert_eq!(stats.count_by_robot[Robot::Rover.code() as usize], 1);
@@ -288,7 +302,10 @@ fn memory_stays_bounded_over_a_million_points() {
     assert_eq!(counters.accepted + counters.outside_grid, 1_000_000);
     assert!(counters.outside_grid > 0);
     assert_eq!(map.memory_bytes(), bytes);
-    assert_eq!((map.stats.capacity(), map.ground.samples.capacity()), capacities);
+    assert_eq!(
+        (map.stats.capacity(), map.ground.samples.capacity()),
+        capacities
+    );
     assert!(bytes < 1024 * 1024, "{bytes} bytes for 1024 cells");
     let total: u64 = map.stats.iter().map(|s| u64::from(s.count)).sum();
     assert_eq!(total, counters.accepted);

@@ -176,7 +176,11 @@ mod tests {
         original_changes.sort_by_key(key);
         restored_changes.sort_by_key(key);
         assert_eq!(original_changes, restored_changes);
-        assert!(original_changes.iter().any(|c| c.class == CellClass::Obstacle.code()));
+        assert!(
+            original_changes
+                .iter()
+                .any(|c| c.class == CellClass::Obstacle.code())
+        );
         assert_eq!(restored.counters(), original.counters());
     }
 
@@ -187,11 +191,17 @@ mod tests {
         encode(&map, &mut bytes).unwrap();
         let config = MapperConfig::default();
         let mut other = FeatureMap::new(&config, config.resolve_geometry((9.0, 8.0)).unwrap());
-        assert!(matches!(restore(&mut other, &bytes), Err(SnapshotError::Geometry { .. })));
+        assert!(matches!(
+            restore(&mut other, &bytes),
+            Err(SnapshotError::Geometry { .. })
+        ));
         let mut same = FeatureMap::new(&config, *map.geometry());
         assert!(restore(&mut same, &bytes[..bytes.len() / 2]).is_err());
         bytes[0] = 9;
-        assert!(matches!(restore(&mut same, &bytes), Err(SnapshotError::Version { .. })));
+        assert!(matches!(
+            restore(&mut same, &bytes),
+            Err(SnapshotError::Version { .. })
+        ));
         assert_eq!(same.counters(), MapCounters::default());
     }
 

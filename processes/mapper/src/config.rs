@@ -49,6 +49,9 @@ pub struct MapperConfig {
     pub inflation_max_cost: u32,
     /// Frames between two map snapshots on disk (0 = never).
     pub snapshot_every_frames: u32,
+    /// Frames between two publications of the whole known map, so a restarted planner
+    /// (`MAP_UPDATES` keeps no history) recovers it (0 = never: changes only).
+    pub republish_every_frames: u32,
 }
 
 impl Default for MapperConfig {
@@ -67,6 +70,7 @@ impl Default for MapperConfig {
             inflation_radius_m: 1.0,
             inflation_max_cost: 2000,
             snapshot_every_frames: 50,
+            republish_every_frames: 0,
         }
     }
 }

@@ -139,6 +139,36 @@ fn low_rock_below_traversable_height_stays_free() {
 }
 
 #[test]
+fn steep_bare_slope_is_free_without_measured_heights() {
+    // 30° along x plus a gentle bend: the lowest point of a neighbourhood is up to 2.3 m below
+    // a cell, so a "lowest observation" ground without a plane would see obstacles everywhere.
+    let mut map = new_map();
+    let mut noise = Noise(99);
+    let cloud: Vec<FeaturePoint> = (0..120 * 120)
+        .map(|k| {
+            let (x, y) = (-4.0 + (k % 120) as f32 * 0.1, -4.0 + (k / 120) as f32 * 0.1);
+            let z = 0.577 * x + 0.02 * y * y + noise.next(0.02);
+            FeaturePoint {
+                position_m: [x, y, z],
+                height_above_ground_m: f32::NAN,
+                ..FeaturePoint::default()
+            }
+        })
+        .collect();
+    map.insert_cloud(Robot::Jumper, &cloud);
+    map.update();
+    for y in 8..32 {
+        for x in 8..32 {
+            assert_eq!(
+                map.cell_state(x, y).expect("inside").class,
+                CellClass::Free,
+                "({x}, {y})"
+            );
+        }
+    }
+}
+
+#[test]
 fn single_outliers_do_not_make_obstacles() {
     let mut map = new_map();
     let mut cloud = rock_on_slope(0.0, false);
@@ -307,4 +337,27 @@ fn memory_stays_bounded_over_a_million_points() {
     assert!(bytes < 1024 * 1024, "{bytes} bytes for 1024 cells");
     let total: u64 = map.stats.iter().map(|s| u64::from(s.count)).sum();
     assert_eq!(total, counters.accepted);
+}
+
+#[test]
+#[ignore = "timing, run with --release --ignored --nocapture"]
+fn timing_of_a_dense_cloud() {
+    let mut map = new_map();
+    let cloud = rock_on_slope(0.6, false);
+    let start = std::time::Instant::now();
+    map.insert_cloud(Robot::Jumper, &cloud);
+    let inserted = start.elapsed();
+    map.update();
+    let updated = start.elapsed();
+    let mut changes = Vec::with_capacity(map.geometry().cell_count());
+    map.collect_changes(&mut changes);
+    eprintln!(
+        "{} points, {} cells changed: insert {:?}, update {:?}, cell {} bytes, map {} bytes",
+        cloud.len(),
+        changes.len(),
+        inserted,
+        updated - inserted,
+        size_of::<CellStats>(),
+        map.memory_bytes()
+    );
 }

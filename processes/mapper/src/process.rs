@@ -5,7 +5,8 @@
 //! learns the grid geometry; after that only frames with changes publish. A change set larger
 //! than one sample goes out in several samples of the same frame. Every `snapshot_every_frames`
 //! frames the map statistics are written next to the launch's config file; a restarted mapper
-//! restores them and republishes its whole map (issue #7).
+//! restores them and republishes its whole map (issue #7). With `republish_every_frames` the
+//! whole known map is also sent periodically, for a planner that restarted.
 
 use std::path::PathBuf;
 
@@ -194,6 +195,10 @@ impl Process for MapperProcess {
     ) -> Result<(), MapperProcessError> {
         self.drain(Robot::Jumper)?;
         self.drain(Robot::Rover)?;
+        let every = u64::from(self.config.republish_every_frames);
+        if every > 0 && self.frames > 0 && self.frames.is_multiple_of(every) {
+            self.map.republish_all();
+        }
         self.map.update();
         self.changes.clear();
         self.map.collect_changes(&mut self.changes);

@@ -51,6 +51,10 @@ pub struct CellStats {
     pub high: [PointM; HIGH_POINTS],
     /// Valid entries of `high`.
     pub high_len: u8,
+    /// Features of unknown height judged at insertion against the cell's last ground plane.
+    pub provisional_count: u32,
+    /// Of those, the ones above the traversable height.
+    pub provisional_high: u32,
 }
 
 impl Default for CellStats {
@@ -70,6 +74,8 @@ impl Default for CellStats {
             low_len: 0,
             high: [[0.0; 3]; HIGH_POINTS],
             high_len: 0,
+            provisional_count: 0,
+            provisional_high: 0,
         }
     }
 }
@@ -141,6 +147,22 @@ impl CellStats {
                 insert_extreme(&mut self.high, &mut self.high_len, position_m, |a, b| a > b);
             }
         }
+    }
+
+    /// Records the verdict on a feature of unknown height judged against a known ground.
+    pub fn add_provisional(&mut self, is_high: bool) {
+        self.provisional_count = self.provisional_count.saturating_add(1);
+        if is_high {
+            self.provisional_high = self.provisional_high.saturating_add(1);
+        }
+    }
+
+    /// Fraction of the judged features (measured or provisional) above the traversable
+    /// height, `None` with fewer than `min_judged` of them.
+    pub fn high_fraction(&self, min_judged: u32) -> Option<f64> {
+        let judged = u64::from(self.measured_count) + u64::from(self.provisional_count);
+        let high = u64::from(self.measured_high) + u64::from(self.provisional_high);
+        (judged >= u64::from(min_judged) && judged > 0).then(|| high as f64 / judged as f64)
     }
 
     /// Mean measured height above ground, metres (`None` without measured features).

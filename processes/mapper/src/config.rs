@@ -38,6 +38,12 @@ pub struct MapperConfig {
     pub max_feature_height_m: f64,
     /// High features a cell needs to become an obstacle (rejects single outliers).
     pub min_obstacle_support: u32,
+    /// Once a cell has `fraction_min_features` judged features, at least this fraction of them
+    /// must be high for it to be an obstacle (0 = off): outliers that pile up in one cell over
+    /// a long mission stay a small fraction of its features.
+    pub obstacle_min_fraction: f64,
+    /// Judged features a cell needs before `obstacle_min_fraction` applies.
+    pub fraction_min_features: u32,
     /// Features a cell needs to count as observed (free).
     pub min_free_support: u32,
     /// Radius of the neighbourhood whose lowest observations define the local ground, metres.
@@ -65,6 +71,8 @@ impl Default for MapperConfig {
             traversable_height_m: 0.3,
             max_feature_height_m: 5.0,
             min_obstacle_support: 3,
+            obstacle_min_fraction: 0.1,
+            fraction_min_features: 20,
             min_free_support: 1,
             ground_window_m: 2.0,
             inflation_radius_m: 1.0,
@@ -122,6 +130,18 @@ impl MapperConfig {
         check_u64(
             "min_obstacle_support",
             u64::from(self.min_obstacle_support),
+            1,
+            1_000_000,
+        )?;
+        check_f64(
+            "obstacle_min_fraction",
+            self.obstacle_min_fraction,
+            0.0,
+            1.0,
+        )?;
+        check_u64(
+            "fraction_min_features",
+            u64::from(self.fraction_min_features),
             1,
             1_000_000,
         )?;

@@ -14,7 +14,7 @@ use crate::cell::{CellStats, LOW_POINTS};
 use crate::config::MapperConfig;
 use crate::dirty::DirtySet;
 use crate::geometry::GridGeometry;
-use crate::ground::{GroundScratch, fit_ground};
+use crate::ground::{GroundPlane, GroundScratch, fit_ground};
 use crate::inflation::{KernelEntry, inflation_kernel, kernel_reach};
 
 /// What the map did with the features it was given.
@@ -86,6 +86,8 @@ struct Thresholds {
     traversable_height_m: f32,
     max_feature_height_m: f32,
     min_obstacle_support: u32,
+    obstacle_min_fraction: f64,
+    fraction_min_features: u32,
     min_free_support: u32,
     ground_reach_cells: u32,
 }
@@ -98,6 +100,9 @@ pub struct FeatureMap {
     kernel: Vec<KernelEntry>,
     inflation_reach_cells: u32,
     stats: Vec<CellStats>,
+    /// The ground plane each cell was last classified with (features of unknown height are
+    /// judged against it on arrival).
+    ground_cache: Vec<Option<GroundPlane>>,
     base: Vec<Base>,
     state: Vec<CellState>,
     published: Vec<CellState>,
@@ -128,12 +133,15 @@ impl FeatureMap {
                 traversable_height_m: config.traversable_height_m as f32,
                 max_feature_height_m: config.max_feature_height_m as f32,
                 min_obstacle_support: config.min_obstacle_support,
+                obstacle_min_fraction: config.obstacle_min_fraction,
+                fraction_min_features: config.fraction_min_features,
                 min_free_support: config.min_free_support,
                 ground_reach_cells,
             },
             inflation_reach_cells: kernel_reach(&kernel),
             kernel,
             stats: vec![CellStats::default(); cells],
+            ground_cache: vec![None; cells],
             base: vec![Base::default(); cells],
             state: vec![CellState::default(); cells],
             published: vec![CellState::default(); cells],
@@ -186,6 +194,16 @@ impl FeatureMap {
             return;
         };
         let index = self.geometry.index(cx, cy);
+        if height.is_none()
+            && let Some(plane) = &self.ground_cache[index]
+        {
+            let above_m =
+                f64::from(point.position_m[2]) - plane.height_at(f64::from(x), f64::from(y));
+            let t = self.thresholds;
+            if above_m <= f64::from(t.max_feature_height_m) {
+                self.stats[index].add_provisional(above_m > f64::from(t.traversable_height_m));
+            }
+        }
         self.stats[index].add(
             point.position_m,
             height,
@@ -295,6 +313,7 @@ impl FeatureMap {
     /// Bytes held by the map (constant after [`Self::new`]).
     pub fn memory_bytes(&self) -> usize {
         let cells = self.stats.capacity() * size_of::<CellStats>()
+            + self.ground_cache.capacity() * size_of::<Option<GroundPlane>>()
             + self.base.capacity() * size_of::<Base>()
             + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>();
         let sets = 4 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
@@ -322,7 +341,10 @@ impl FeatureMap {
             high = high.saturating_add(self.estimated_high(index, &stats));
         }
         let t = self.thresholds;
-        let class = if high >= t.min_obstacle_support {
+        let fraction_ok = stats
+            .high_fraction(t.fraction_min_features)
+            .is_none_or(|fraction| fraction >= t.obstacle_min_fraction);
+        let class = if high >= t.min_obstacle_support && fraction_ok {
             BaseClass::Obstacle
         } else if stats.count >= t.min_free_support {
             BaseClass::Free
@@ -361,7 +383,9 @@ impl FeatureMap {
             }
         }
         let (cx, cy) = self.geometry.centre_m(x, y);
-        let Some(plane) = fit_ground(&mut self.ground, cx, cy) else {
+        let plane = fit_ground(&mut self.ground, cx, cy);
+        self.ground_cache[index] = plane;
+        let Some(plane) = plane else {
             return 0;
         };
         let t = self.thresholds;

@@ -187,6 +187,42 @@ fn single_outliers_do_not_make_obstacles() {
 }
 
 #[test]
+fn outliers_piling_up_over_a_long_mission_stay_free() {
+    for measured in [false, true] {
+        let mut map = new_map();
+        let ground = rock_on_slope(0.0, measured);
+        // Many keyframes see the same ground; every tenth adds one stray feature 1 m up in
+        // the cell at (0.25, 0.25): after 100 keyframes that cell holds 10 high features.
+        for keyframe in 0..100 {
+            map.insert_cloud(Robot::Jumper, &ground[..ground.len() / 2]);
+            if keyframe % 10 == 0 {
+                let (x, y) = (0.2, 0.3);
+                map.insert_cloud(
+                    Robot::Jumper,
+                    &[FeaturePoint {
+                        position_m: [x, y, ground_z(x, y) + 1.0],
+                        height_above_ground_m: if measured { 1.0 } else { f32::NAN },
+                        ..FeaturePoint::default()
+                    }],
+                );
+            }
+            map.update();
+        }
+        assert_eq!(
+            class_at(&map, 0.25, 0.25),
+            CellClass::Free,
+            "measured {measured}"
+        );
+        // A real rock keeps being an obstacle however often it is seen.
+        for _ in 0..20 {
+            map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, measured));
+            map.update();
+        }
+        assert_rock_with_ring(&map);
+    }
+}
+
+#[test]
 fn observers_are_recorded_per_robot() {
     let mut map = new_map();
     let point = |x: f32| FeaturePoint {

@@ -232,6 +232,37 @@ mod tests {
         assert_eq!((geometry.width_cells, geometry.height_cells), (128, 128));
     }
 
+    /// The block proposed for config/default.toml.
+    const DEFAULT_TOML_BLOCK: &str = r#"
+[processes.mapper]
+stage = 3
+budget_ms = 15.0
+restart = "on-failure"
+
+[mapper]
+cell_size_m = 0.5
+traversable_height_m = 0.3
+max_feature_height_m = 5.0
+min_obstacle_support = 3
+obstacle_min_fraction = 0.1
+fraction_min_features = 20
+min_free_support = 1
+ground_window_m = 2.0
+inflation_radius_m = 1.0
+inflation_max_cost = 2000
+snapshot_every_frames = 50
+republish_every_frames = 0
+"#;
+
+    #[test]
+    fn proposed_default_block_is_valid_and_equals_the_defaults() {
+        let config = hopnav_config::load(Some(DEFAULT_TOML_BLOCK)).expect("valid");
+        assert_eq!(config.processes["mapper"].stage, 3);
+        let section = mapper_section(&config).expect("valid");
+        let defaults = mapper_section(&hopnav_config::load(None).expect("ok")).expect("ok");
+        assert_eq!(section, defaults);
+    }
+
     #[test]
     fn section_errors_name_the_key_and_range() {
         let config = hopnav_config::load(Some("[mapper]\ncell_size_m = 0.0\n")).expect("toml");

@@ -53,6 +53,9 @@ pub struct MapperConfig {
     /// Extra cost next to an obstacle, planner units (1000 = one straight cell); it falls
     /// linearly with distance.
     pub inflation_max_cost: u32,
+    /// Most cells reclassified per frame (bounds the frame time after a large cloud; the rest
+    /// follow in the next frames).
+    pub max_cells_per_frame: u32,
     /// Frames between two map snapshots on disk (0 = never).
     pub snapshot_every_frames: u32,
     /// Frames between two publications of the whole known map, so a restarted planner
@@ -77,6 +80,7 @@ impl Default for MapperConfig {
             ground_window_m: 2.0,
             inflation_radius_m: 1.0,
             inflation_max_cost: 2000,
+            max_cells_per_frame: 2000,
             snapshot_every_frames: 50,
             republish_every_frames: 0,
         }
@@ -162,6 +166,12 @@ impl MapperConfig {
             self.inflation_radius_m,
             0.0,
             25.0 * self.cell_size_m,
+        )?;
+        check_u64(
+            "max_cells_per_frame",
+            u64::from(self.max_cells_per_frame),
+            1,
+            MAX_CELLS,
         )?;
         check_u64(
             "inflation_max_cost",

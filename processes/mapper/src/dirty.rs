@@ -41,6 +41,15 @@ impl DirtySet {
         self.list.is_empty()
     }
 
+    /// Unmarks the first `count` cells in marking order (all if fewer), keeping the rest.
+    pub fn remove_first(&mut self, count: usize) {
+        let count = count.min(self.list.len());
+        for &index in &self.list[..count] {
+            self.flags[index as usize] = false;
+        }
+        self.list.drain(..count);
+    }
+
     /// Unmarks everything.
     pub fn clear(&mut self) {
         for &index in &self.list {
@@ -66,5 +75,11 @@ mod tests {
         assert!(set.is_empty());
         set.insert(2);
         assert_eq!(set.len(), 1);
+        set.insert(3);
+        set.insert(1);
+        set.remove_first(2);
+        assert_eq!(set.as_slice(), &[1]);
+        set.insert(2);
+        assert_eq!(set.as_slice(), &[1, 2]);
     }
 }

@@ -3,6 +3,17 @@
 //!
 //! The algorithms are plain modules; [`process`] wires them to iceoryx2.
 //!
+//! - [`geometry`]: the fixed grid of the mission area (by default the `[world.terrain]` square).
+//! - [`cell`]: fixed-size statistics per cell (counts per robot, observers, measured heights,
+//!   the few lowest ground points and highest features): memory never grows with the mission.
+//! - [`ground`]: the local ground, a robust plane through the neighbourhood's lowest
+//!   observations, for features whose producer could not measure their height (NaN).
+//! - [`map`]: insertion, classification (obstacle = at least `min_obstacle_support` features
+//!   more than `traversable_height_m` above the local ground, and at least
+//!   `obstacle_min_fraction` of a well-observed cell's features), inflation ([`inflation`]) and
+//!   the diff of changed cells.
+//! - [`snapshot`]: save and restore the statistics; [`view`]: read-only access for plots.
+//!
 //! ```
 //! use hopnav_ipc::messages::{CellClass, FeaturePoint, Robot};
 //! use hopnav_mapper::config::MapperConfig;

@@ -90,6 +90,7 @@ struct Thresholds {
     fraction_min_features: u32,
     min_free_support: u32,
     ground_reach_cells: u32,
+    max_cells_per_update: usize,
 }
 
 /// The merged, bounded map of both robots' features.
@@ -137,6 +138,7 @@ impl FeatureMap {
                 fraction_min_features: config.fraction_min_features,
                 min_free_support: config.min_free_support,
                 ground_reach_cells,
+                max_cells_per_update: config.max_cells_per_frame.max(1) as usize,
             },
             inflation_reach_cells: kernel_reach(&kernel),
             kernel,
@@ -214,9 +216,10 @@ impl FeatureMap {
         self.counters.accepted += 1;
     }
 
-    /// Reclassifies every cell the features inserted since the last update can affect, and
-    /// inflates around obstacles that appeared or vanished. Returns the cells whose published
-    /// state may have changed.
+    /// Reclassifies the cells the features inserted since the last update can affect (at most
+    /// `max_cells_per_frame`; the rest wait for the next update, see [`Self::pending_cells`]),
+    /// and inflates around obstacles that appeared or vanished. Returns the cells whose
+    /// published state may have changed.
     pub fn update(&mut self) -> usize {
         let reach = self.thresholds.ground_reach_cells;
         for &index in self.touched.as_slice() {
@@ -235,7 +238,11 @@ impl FeatureMap {
             }
         }
         self.touched.clear();
-        for i in 0..self.reclassify.len() {
+        let batch = self
+            .reclassify
+            .len()
+            .min(self.thresholds.max_cells_per_update);
+        for i in 0..batch {
             let index = self.reclassify.as_slice()[i] as usize;
             let base = self.classify(index);
             let was_obstacle = self.base[index].class == BaseClass::Obstacle;
@@ -252,7 +259,7 @@ impl FeatureMap {
                 }
             }
         }
-        self.reclassify.clear();
+        self.reclassify.remove_first(batch);
         for i in 0..self.restate.len() {
             let index = self.restate.as_slice()[i] as usize;
             self.state[index] = self.derive_state(index);
@@ -260,6 +267,11 @@ impl FeatureMap {
         }
         self.restate.clear();
         self.changed.len()
+    }
+
+    /// Cells waiting to be reclassified by the next [`Self::update`].
+    pub fn pending_cells(&self) -> usize {
+        self.reclassify.len() + self.touched.len()
     }
 
     /// Appends the cells whose class, extra cost or observers differ from what the last call

@@ -118,6 +118,28 @@ fn rock_streamed_in_small_clouds_gives_the_same_map() {
 }
 
 #[test]
+fn a_per_frame_cell_limit_only_delays_the_same_map() {
+    let config = MapperConfig {
+        max_cells_per_frame: 50,
+        ..config()
+    };
+    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
+    let mut map = FeatureMap::new(&config, geometry);
+    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, false));
+    let mut frames = 0;
+    loop {
+        map.update();
+        frames += 1;
+        if map.pending_cells() == 0 {
+            break;
+        }
+        assert!(frames < 100);
+    }
+    assert!(frames > 10, "{frames}");
+    assert_rock_with_ring(&map);
+}
+
+#[test]
 fn low_rock_below_traversable_height_stays_free() {
     assert!(0.2 < config().traversable_height_m);
     for measured in [false, true] {

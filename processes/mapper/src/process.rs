@@ -250,6 +250,7 @@ min_free_support = 1
 ground_window_m = 2.0
 inflation_radius_m = 1.0
 inflation_max_cost = 2000
+max_cells_per_frame = 2000
 snapshot_every_frames = 50
 republish_every_frames = 0
 "#;

@@ -47,4 +47,5 @@ pub mod inflation;
 pub mod map;
 pub mod process;
 pub mod snapshot;
+pub mod snapshot_writer;
 pub mod view;

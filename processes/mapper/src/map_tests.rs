@@ -418,4 +418,16 @@ fn timing_of_a_dense_cloud() {
         size_of::<CellStats>(),
         map.memory_bytes()
     );
+    let full = config().resolve_geometry((64.0, 64.0)).expect("valid");
+    let full_map = FeatureMap::new(&config(), full);
+    let mut bytes = Vec::new();
+    let start = std::time::Instant::now();
+    crate::snapshot::encode(&full_map, &mut bytes).expect("encode");
+    eprintln!(
+        "snapshot of {} cells: {} bytes in {:?}; map {} bytes",
+        full.cell_count(),
+        bytes.len(),
+        start.elapsed(),
+        full_map.memory_bytes()
+    );
 }

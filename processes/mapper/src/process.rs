@@ -4,11 +4,10 @@
 //! The first frame always publishes a `MapHeader` (possibly with no cells) so the planner
 //! learns the grid geometry; after that only frames with changes publish. A change set larger
 //! than one sample goes out in several samples of the same frame. Every `snapshot_every_frames`
-//! frames the map statistics are written next to the launch's config file; a restarted mapper
+//! frames the map statistics are written (by a helper thread) next to the launch's config
+//! file; a restarted mapper
 //! restores them and republishes its whole map (issue #7). With `republish_every_frames` the
 //! whole known map is also sent periodically, for a planner that restarted.
-
-use std::path::PathBuf;
 
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{CellUpdate, CloudHeader, FrameTick, MapHeader, Robot};
@@ -20,6 +19,7 @@ use crate::config::MapperConfig;
 use crate::geometry::GridGeometry;
 use crate::map::FeatureMap;
 use crate::snapshot;
+use crate::snapshot_writer::SnapshotWriter;
 
 /// File name of the map snapshot, in the launch's run folder.
 pub const SNAPSHOT_FILE: &str = "mapper_snapshot.bin";
@@ -74,8 +74,7 @@ pub struct MapperProcess {
     changes: Vec<CellUpdate>,
     header_sent: bool,
     wrong_robot_clouds: u64,
-    snapshot_path: Option<PathBuf>,
-    snapshot_buffer: Vec<u8>,
+    snapshots: Option<SnapshotWriter>,
     changed_since_snapshot: bool,
     frames: u64,
 }
@@ -129,22 +128,16 @@ impl MapperProcess {
         Ok(())
     }
 
-    /// Writes a snapshot when one is due (`force`: at stop) and the map changed since the last.
+    /// Hands a snapshot to the writer thread when one is due (`force`: at stop) and the map
+    /// changed since the last one.
     fn maybe_snapshot(&mut self, force: bool) {
         let every = u64::from(self.config.snapshot_every_frames);
-        let Some(path) = &self.snapshot_path else {
+        let Some(writer) = &mut self.snapshots else {
             return;
         };
         let due = every > 0 && (force || self.frames.is_multiple_of(every));
-        if !due || !self.changed_since_snapshot {
-            return;
-        }
-        let written = snapshot::encode(&self.map, &mut self.snapshot_buffer)
-            .and_then(|()| snapshot::write_file(path, &self.snapshot_buffer));
-        match written {
-            Ok(()) => self.changed_since_snapshot = false,
-            // The map itself is fine; a missed snapshot only matters after a crash.
-            Err(error) => eprintln!("mapper: snapshot not written: {error}"),
+        if due && self.changed_since_snapshot && writer.request(&self.map) {
+            self.changed_since_snapshot = false;
         }
     }
 }
@@ -171,7 +164,16 @@ impl Process for MapperProcess {
                 Err(error) => eprintln!("mapper: starting with an empty map: {error}"),
             }
         }
-        let snapshot_bytes = cells * size_of::<crate::cell::CellStats>() + 4096;
+        let snapshots = match (&snapshot_path, section.snapshot_every_frames) {
+            (Some(path), 1..) => match SnapshotWriter::new(&map, path.clone()) {
+                Ok(writer) => Some(writer),
+                Err(error) => {
+                    eprintln!("mapper: no snapshots (writer thread: {error})");
+                    None
+                }
+            },
+            _ => None,
+        };
         Ok(Self {
             updates: SlicePublisher::open(node, &topics::MAP_UPDATES, cells)?,
             jumper_clouds: SliceSubscriber::open(node, &topics::JUMPER_CLOUD)?,
@@ -181,8 +183,7 @@ impl Process for MapperProcess {
             map,
             header_sent: false,
             wrong_robot_clouds: 0,
-            snapshot_path,
-            snapshot_buffer: Vec::with_capacity(snapshot_bytes),
+            snapshots,
             changed_since_snapshot: false,
             frames: 0,
         })
@@ -216,6 +217,9 @@ impl Process for MapperProcess {
 
     fn stop(&mut self, _context: &ProcessContext) {
         self.maybe_snapshot(true);
+        if let Some(writer) = &mut self.snapshots {
+            writer.finish();
+        }
     }
 }
 

@@ -3,7 +3,9 @@
 //!
 //! Encoding goes through [`hopnav_ipc::codec`] (the project's one serialization module).
 //! Only the statistics are stored; classes, inflation and ground are recomputed on restore,
-//! so a snapshot stays valid when thresholds change. The geometry must match.
+//! so a snapshot stays valid when thresholds change. The geometry must match. A cell takes
+//! about 200 bytes, so grids above ≈ 300 000 cells exceed the codec's 64 MiB decode limit and
+//! are refused at encoding ([`SnapshotError::TooLarge`]).
 //!
 //! ```
 //! use hopnav_ipc::messages::{FeaturePoint, Robot};
@@ -50,6 +52,14 @@ pub enum SnapshotError {
         /// Version in the file.
         found: u32,
     },
+    /// The map is too large for the codec's decode limit: it could not be read back.
+    #[error("snapshot of {bytes} bytes exceeds the codec limit of {limit} bytes")]
+    TooLarge {
+        /// Encoded size.
+        bytes: usize,
+        /// [`hopnav_ipc::codec::MAX_DECODE_BYTES`].
+        limit: usize,
+    },
     /// The snapshot's grid differs from the map's.
     #[error("snapshot grid {found:?} differs from the configured grid {expected:?}")]
     Geometry {
@@ -78,13 +88,30 @@ struct SnapshotOwned {
 
 /// Encodes the map's statistics into `buffer` (cleared first; its allocation is reused).
 pub fn encode(map: &FeatureMap, buffer: &mut Vec<u8>) -> Result<(), SnapshotError> {
+    encode_parts(map.geometry(), map.counters(), map.stats_slice(), buffer)
+}
+
+/// Encodes a copy of a map's statistics (see [`crate::snapshot_writer`]).
+pub(crate) fn encode_parts(
+    geometry: &GridGeometry,
+    counters: MapCounters,
+    stats: &[CellStats],
+    buffer: &mut Vec<u8>,
+) -> Result<(), SnapshotError> {
     let snapshot = SnapshotRef {
         version: SNAPSHOT_VERSION,
-        geometry: *map.geometry(),
-        counters: map.counters(),
-        stats: map.stats_slice(),
+        geometry: *geometry,
+        counters,
+        stats,
     };
     hopnav_ipc::codec::encode_into(&snapshot, buffer)?;
+    let limit = hopnav_ipc::codec::MAX_DECODE_BYTES;
+    if buffer.len() > limit {
+        return Err(SnapshotError::TooLarge {
+            bytes: buffer.len(),
+            limit,
+        });
+    }
     Ok(())
 }
 

@@ -72,7 +72,7 @@ impl SnapshotWriter {
                 geometry: *map.geometry(),
                 counters: map.counters(),
                 stats: vec![CellStats::default(); cells],
-                bytes: Vec::with_capacity(cells * size_of::<CellStats>() + 4096),
+                bytes: Vec::with_capacity(size_of_val(map.stats_slice()) + 4096),
             }),
             worker: Some(worker),
         })

@@ -1,0 +1,259 @@
+//! Settings of the mapper (`[mapper]` table): serde with defaults, `deny_unknown_fields`, and
+//! [`MapperConfig::validate`] naming the offending key and its allowed range.
+//!
+//! The grid geometry keys are optional: absent, they cover the world terrain (see
+//! [`MapperConfig::resolve_geometry`]).
+//!
+//! ```
+//! use hopnav_mapper::config::MapperConfig;
+//! let mut cfg = MapperConfig::default();
+//! assert!(cfg.validate().is_ok());
+//! cfg.traversable_height_m = -1.0;
+//! let err = cfg.validate().unwrap_err().to_string();
+//! assert!(err.contains("mapper.traversable_height_m"));
+//! ```
+
+use hopnav_config::{ConfigError, in_section};
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::{GridGeometry, MAX_CELLS};
+
+/// Settings of [`crate::map::FeatureMap`] and the mapper process.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MapperConfig {
+    /// Edge length of a map cell, metres.
+    pub cell_size_m: f64,
+    /// World x of the grid corner, metres (absent: the terrain's lower x edge).
+    pub origin_x_m: Option<f64>,
+    /// World y of the grid corner, metres (absent: the terrain's lower y edge).
+    pub origin_y_m: Option<f64>,
+    /// Cells along x (absent: enough to cover the terrain).
+    pub width_cells: Option<u32>,
+    /// Cells along y (absent: enough to cover the terrain).
+    pub height_cells: Option<u32>,
+    /// Features higher than this above the local ground are obstacles for the rover, metres.
+    pub traversable_height_m: f64,
+    /// Features higher than this above the local ground are outliers and ignored, metres.
+    pub max_feature_height_m: f64,
+    /// High features a cell needs to become an obstacle (rejects single outliers).
+    pub min_obstacle_support: u32,
+    /// Once a cell has `fraction_min_features` judged features, at least this fraction of them
+    /// must be high for it to be an obstacle (0 = off): outliers that pile up in one cell over
+    /// a long mission stay a small fraction of its features.
+    pub obstacle_min_fraction: f64,
+    /// Judged features a cell needs before `obstacle_min_fraction` applies.
+    pub fraction_min_features: u32,
+    /// Features a cell needs to count as observed (free).
+    pub min_free_support: u32,
+    /// Radius of the neighbourhood whose lowest observations define the local ground, metres.
+    pub ground_window_m: f64,
+    /// Cells within this distance of an obstacle get an extra cost, metres (0 = off).
+    pub inflation_radius_m: f64,
+    /// Extra cost next to an obstacle, planner units (1000 = one straight cell); it falls
+    /// linearly with distance.
+    pub inflation_max_cost: u32,
+    /// Most cells reclassified per frame (bounds the frame time after a large cloud; the rest
+    /// follow in the next frames).
+    pub max_cells_per_frame: u32,
+    /// Frames between two map snapshots on disk (0 = never).
+    pub snapshot_every_frames: u32,
+    /// Frames between two publications of the whole known map, so a restarted planner
+    /// (`MAP_UPDATES` keeps no history) recovers it (0 = never: changes only).
+    pub republish_every_frames: u32,
+}
+
+impl Default for MapperConfig {
+    fn default() -> Self {
+        Self {
+            cell_size_m: 0.5,
+            origin_x_m: None,
+            origin_y_m: None,
+            width_cells: None,
+            height_cells: None,
+            traversable_height_m: 0.3,
+            max_feature_height_m: 5.0,
+            min_obstacle_support: 3,
+            obstacle_min_fraction: 0.1,
+            fraction_min_features: 20,
+            min_free_support: 1,
+            ground_window_m: 2.0,
+            inflation_radius_m: 1.0,
+            inflation_max_cost: 2000,
+            max_cells_per_frame: 2000,
+            snapshot_every_frames: 50,
+            republish_every_frames: 0,
+        }
+    }
+}
+
+fn check_f64(key: &str, value: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(in_section("mapper", key, value, format!("[{lo}, {hi}]")))
+    }
+}
+
+fn check_u64(key: &str, value: u64, lo: u64, hi: u64) -> Result<(), ConfigError> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(in_section("mapper", key, value, format!("[{lo}, {hi}]")))
+    }
+}
+
+impl MapperConfig {
+    /// Checks every value; the error names `mapper.<key>` and the allowed range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_f64("cell_size_m", self.cell_size_m, 0.05, 10.0)?;
+        if let Some(x) = self.origin_x_m {
+            check_f64("origin_x_m", x, -1e6, 1e6)?;
+        }
+        if let Some(y) = self.origin_y_m {
+            check_f64("origin_y_m", y, -1e6, 1e6)?;
+        }
+        if let Some(w) = self.width_cells {
+            check_u64("width_cells", u64::from(w), 1, MAX_CELLS)?;
+        }
+        if let Some(h) = self.height_cells {
+            check_u64("height_cells", u64::from(h), 1, MAX_CELLS)?;
+        }
+        check_f64(
+            "traversable_height_m",
+            self.traversable_height_m,
+            0.01,
+            10.0,
+        )?;
+        check_f64(
+            "max_feature_height_m",
+            self.max_feature_height_m,
+            self.traversable_height_m,
+            1000.0,
+        )?;
+        check_u64(
+            "min_obstacle_support",
+            u64::from(self.min_obstacle_support),
+            1,
+            1_000_000,
+        )?;
+        check_f64(
+            "obstacle_min_fraction",
+            self.obstacle_min_fraction,
+            0.0,
+            1.0,
+        )?;
+        check_u64(
+            "fraction_min_features",
+            u64::from(self.fraction_min_features),
+            1,
+            1_000_000,
+        )?;
+        check_u64(
+            "min_free_support",
+            u64::from(self.min_free_support),
+            1,
+            1_000_000,
+        )?;
+        check_f64(
+            "ground_window_m",
+            self.ground_window_m,
+            self.cell_size_m,
+            25.0 * self.cell_size_m,
+        )?;
+        check_f64(
+            "inflation_radius_m",
+            self.inflation_radius_m,
+            0.0,
+            25.0 * self.cell_size_m,
+        )?;
+        check_u64(
+            "max_cells_per_frame",
+            u64::from(self.max_cells_per_frame),
+            1,
+            MAX_CELLS,
+        )?;
+        check_u64(
+            "inflation_max_cost",
+            u64::from(self.inflation_max_cost),
+            0,
+            1_000_000,
+        )?;
+        Ok(())
+    }
+
+    /// The grid geometry: explicit keys win; absent ones cover the terrain square
+    /// `[-size_x_m/2, size_x_m/2] × [-size_y_m/2, size_y_m/2]` (the world crate centres its
+    /// heightfield on the origin). Errors if the grid is too large.
+    pub fn resolve_geometry(
+        &self,
+        terrain_size_m: (f64, f64),
+    ) -> Result<GridGeometry, ConfigError> {
+        let (size_x_m, size_y_m) = terrain_size_m;
+        let cells = |size_m: f64| (size_m / self.cell_size_m).ceil().clamp(1.0, 1e9) as u32;
+        let geometry = GridGeometry {
+            origin_x_m: self.origin_x_m.unwrap_or(-size_x_m / 2.0),
+            origin_y_m: self.origin_y_m.unwrap_or(-size_y_m / 2.0),
+            cell_size_m: self.cell_size_m,
+            width_cells: self.width_cells.unwrap_or_else(|| cells(size_x_m)),
+            height_cells: self.height_cells.unwrap_or_else(|| cells(size_y_m)),
+        };
+        let count = geometry.cell_count() as u64;
+        if count > MAX_CELLS {
+            return Err(in_section(
+                "mapper",
+                "width_cells",
+                format!(
+                    "{}x{} = {count} cells",
+                    geometry.width_cells, geometry.height_cells
+                ),
+                format!("at most {MAX_CELLS} cells in all (raise cell_size_m)"),
+            ));
+        }
+        Ok(geometry)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_geometry_covers_the_default_terrain() {
+        let geometry = MapperConfig::default()
+            .resolve_geometry((64.0, 64.0))
+            .expect("valid");
+        assert_eq!(geometry.origin_x_m, -32.0);
+        assert_eq!((geometry.width_cells, geometry.height_cells), (128, 128));
+    }
+
+    #[test]
+    fn errors_name_the_key_and_range() {
+        let cfg = MapperConfig {
+            min_obstacle_support: 0,
+            ..MapperConfig::default()
+        };
+        let err = cfg.validate().unwrap_err().to_string();
+        assert!(err.contains("mapper.min_obstacle_support"), "{err}");
+        assert!(err.contains("[1, 1000000]"), "{err}");
+        let cfg = MapperConfig {
+            cell_size_m: f64::NAN,
+            ..MapperConfig::default()
+        };
+        assert!(
+            cfg.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("mapper.cell_size_m")
+        );
+        let cfg = MapperConfig {
+            cell_size_m: 0.05,
+            ..MapperConfig::default()
+        };
+        let err = cfg
+            .resolve_geometry((2048.0, 2048.0))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("mapper.width_cells"), "{err}");
+    }
+}

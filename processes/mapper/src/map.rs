@@ -1,0 +1,461 @@
+//! The merged feature map: both robots' clouds aggregated into a fixed grid of fixed-size
+//! cell statistics, classified into free / obstacle / inflated, and published as a diff.
+//!
+//! Per cloud call [`FeatureMap::insert_cloud`]; once per frame [`FeatureMap::update`]
+//! reclassifies the cells the new features can affect (their own and, through the local
+//! ground, their neighbours') and [`FeatureMap::collect_changes`] returns the cells whose
+//! class, extra cost or observers changed since the last collection. Memory is allocated in
+//! [`FeatureMap::new`] and does not grow, however long the mission.
+
+use hopnav_ipc::messages::{CellClass, CellUpdate, FeaturePoint, Robot};
+use serde::{Deserialize, Serialize};
+
+use crate::cell::{CellStats, LOW_POINTS};
+use crate::config::MapperConfig;
+use crate::dirty::DirtySet;
+use crate::geometry::GridGeometry;
+use crate::ground::{GroundPlane, GroundScratch, fit_ground};
+use crate::inflation::{KernelEntry, inflation_kernel, kernel_reach};
+
+/// What the map did with the features it was given.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MapCounters {
+    /// Features added to a cell.
+    pub accepted: u64,
+    /// Features with a non-finite position, sigma or an infinite height.
+    pub non_finite: u64,
+    /// Features outside the grid.
+    pub outside_grid: u64,
+    /// Features whose measured height is beyond `max_feature_height_m` (either sign).
+    pub implausible_height: u64,
+}
+
+/// Published state of one cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CellState {
+    /// Class.
+    pub class: CellClass,
+    /// Extra cost of moving into the cell, planner units.
+    pub extra_cost: u32,
+    /// Bit set of robot codes that observed the cell.
+    pub observed_by: u32,
+    /// Features supporting the class (high features of an obstacle, all features otherwise).
+    pub support: u32,
+}
+
+impl Default for CellState {
+    fn default() -> Self {
+        Self {
+            class: CellClass::Unknown,
+            extra_cost: 0,
+            observed_by: 0,
+            support: 0,
+        }
+    }
+}
+
+impl CellState {
+    /// Whether the planner would see a difference (support alone does not count).
+    fn differs_from(&self, other: &CellState) -> bool {
+        self.class != other.class
+            || self.extra_cost != other.extra_cost
+            || self.observed_by != other.observed_by
+    }
+}
+
+/// Classification of a cell from its own features, before inflation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Base {
+    class: BaseClass,
+    support: u32,
+    /// Features above the traversable height (measured + estimated).
+    high: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum BaseClass {
+    #[default]
+    Unknown,
+    Free,
+    Obstacle,
+}
+
+/// Classification thresholds in the units the cells use.
+#[derive(Debug, Clone, Copy)]
+struct Thresholds {
+    traversable_height_m: f32,
+    max_feature_height_m: f32,
+    min_obstacle_support: u32,
+    obstacle_min_fraction: f64,
+    fraction_min_features: u32,
+    min_free_support: u32,
+    ground_reach_cells: u32,
+    max_cells_per_update: usize,
+}
+
+/// The merged, bounded map of both robots' features.
+#[derive(Debug)]
+pub struct FeatureMap {
+    geometry: GridGeometry,
+    thresholds: Thresholds,
+    kernel: Vec<KernelEntry>,
+    inflation_reach_cells: u32,
+    stats: Vec<CellStats>,
+    /// The ground plane each cell was last classified with (features of unknown height are
+    /// judged against it on arrival).
+    ground_cache: Vec<Option<GroundPlane>>,
+    base: Vec<Base>,
+    state: Vec<CellState>,
+    published: Vec<CellState>,
+    touched: DirtySet,
+    reclassify: DirtySet,
+    restate: DirtySet,
+    changed: DirtySet,
+    ground: GroundScratch,
+    counters: MapCounters,
+}
+
+impl FeatureMap {
+    /// An empty map over `geometry` with the thresholds of `config` (validated by the caller).
+    pub fn new(config: &MapperConfig, geometry: GridGeometry) -> Self {
+        let cells = geometry.cell_count();
+        let kernel = inflation_kernel(
+            geometry.cell_size_m,
+            config.inflation_radius_m,
+            config.inflation_max_cost,
+        );
+        let ground_reach_cells = (config.ground_window_m / geometry.cell_size_m)
+            .ceil()
+            .clamp(1.0, 64.0) as u32;
+        let window = (2 * ground_reach_cells as usize + 1).pow(2);
+        Self {
+            geometry,
+            thresholds: Thresholds {
+                traversable_height_m: config.traversable_height_m as f32,
+                max_feature_height_m: config.max_feature_height_m as f32,
+                min_obstacle_support: config.min_obstacle_support,
+                obstacle_min_fraction: config.obstacle_min_fraction,
+                fraction_min_features: config.fraction_min_features,
+                min_free_support: config.min_free_support,
+                ground_reach_cells,
+                max_cells_per_update: config.max_cells_per_frame.max(1) as usize,
+            },
+            inflation_reach_cells: kernel_reach(&kernel),
+            kernel,
+            stats: vec![CellStats::default(); cells],
+            ground_cache: vec![None; cells],
+            base: vec![Base::default(); cells],
+            state: vec![CellState::default(); cells],
+            published: vec![CellState::default(); cells],
+            touched: DirtySet::new(cells),
+            reclassify: DirtySet::new(cells),
+            restate: DirtySet::new(cells),
+            changed: DirtySet::new(cells),
+            ground: GroundScratch::with_capacity(window * LOW_POINTS),
+            counters: MapCounters::default(),
+        }
+    }
+
+    /// The grid geometry.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// What happened to the features so far.
+    pub fn counters(&self) -> MapCounters {
+        self.counters
+    }
+
+    /// Adds the features of one cloud observed by `robot`; returns how many were accepted.
+    /// Bad points (non-finite, implausible height) and points outside the grid are counted
+    /// and dropped.
+    pub fn insert_cloud(&mut self, robot: Robot, points: &[FeaturePoint]) -> usize {
+        let before = self.counters.accepted;
+        for point in points {
+            self.insert_point(robot, point);
+        }
+        (self.counters.accepted - before) as usize
+    }
+
+    fn insert_point(&mut self, robot: Robot, point: &FeaturePoint) {
+        if !point.is_valid() {
+            self.counters.non_finite += 1;
+            return;
+        }
+        let height = point.height_above_ground_m;
+        let height = height.is_finite().then_some(height);
+        if let Some(height) = height
+            && height.abs() > self.thresholds.max_feature_height_m
+        {
+            self.counters.implausible_height += 1;
+            return;
+        }
+        let [x, y, _] = point.position_m;
+        let Some((cx, cy)) = self.geometry.cell_of(f64::from(x), f64::from(y)) else {
+            self.counters.outside_grid += 1;
+            return;
+        };
+        let index = self.geometry.index(cx, cy);
+        if height.is_none()
+            && let Some(plane) = &self.ground_cache[index]
+        {
+            let above_m =
+                f64::from(point.position_m[2]) - plane.height_at(f64::from(x), f64::from(y));
+            let t = self.thresholds;
+            if above_m <= f64::from(t.max_feature_height_m) {
+                self.stats[index].add_provisional(above_m > f64::from(t.traversable_height_m));
+            }
+        }
+        self.stats[index].add(
+            point.position_m,
+            height,
+            robot.code(),
+            self.thresholds.traversable_height_m,
+        );
+        self.touched.insert(index);
+        self.counters.accepted += 1;
+    }
+
+    /// Reclassifies the cells the features inserted since the last update can affect (at most
+    /// `max_cells_per_frame`; the rest wait for the next update, see [`Self::pending_cells`]),
+    /// and inflates around obstacles that appeared or vanished. Returns the cells whose
+    /// published state may have changed.
+    pub fn update(&mut self) -> usize {
+        let reach = self.thresholds.ground_reach_cells;
+        for &index in self.touched.as_slice() {
+            let index = index as usize;
+            self.reclassify.insert(index);
+            let (x, y) = self.geometry.coords(index);
+            let (x0, y0, x1, y1) = self.geometry.window(x, y, reach);
+            for ny in y0..=y1 {
+                for nx in x0..=x1 {
+                    let neighbour = self.geometry.index(nx, ny);
+                    // Only estimated heights depend on the neighbours' ground.
+                    if self.stats[neighbour].high_len > 0 {
+                        self.reclassify.insert(neighbour);
+                    }
+                }
+            }
+        }
+        self.touched.clear();
+        let batch = self
+            .reclassify
+            .len()
+            .min(self.thresholds.max_cells_per_update);
+        for i in 0..batch {
+            let index = self.reclassify.as_slice()[i] as usize;
+            let base = self.classify(index);
+            let was_obstacle = self.base[index].class == BaseClass::Obstacle;
+            let is_obstacle = base.class == BaseClass::Obstacle;
+            self.base[index] = base;
+            self.restate.insert(index);
+            if was_obstacle != is_obstacle {
+                let (x, y) = self.geometry.coords(index);
+                let (x0, y0, x1, y1) = self.geometry.window(x, y, self.inflation_reach_cells);
+                for ny in y0..=y1 {
+                    for nx in x0..=x1 {
+                        self.restate.insert(self.geometry.index(nx, ny));
+                    }
+                }
+            }
+        }
+        self.reclassify.remove_first(batch);
+        for i in 0..self.restate.len() {
+            let index = self.restate.as_slice()[i] as usize;
+            self.state[index] = self.derive_state(index);
+            self.changed.insert(index);
+        }
+        self.restate.clear();
+        self.changed.len()
+    }
+
+    /// Cells waiting to be reclassified by the next [`Self::update`].
+    pub fn pending_cells(&self) -> usize {
+        self.reclassify.len() + self.touched.len()
+    }
+
+    /// Appends the cells whose class, extra cost or observers differ from what the last call
+    /// returned (the first call: from an all-unknown map) to `out`, and remembers them as
+    /// published. `out` is not cleared.
+    pub fn collect_changes(&mut self, out: &mut Vec<CellUpdate>) -> usize {
+        let before = out.len();
+        for &index in self.changed.as_slice() {
+            let index = index as usize;
+            let state = self.state[index];
+            if state.differs_from(&self.published[index]) {
+                let (x, y) = self.geometry.coords(index);
+                out.push(CellUpdate {
+                    x,
+                    y,
+                    class: state.class.code(),
+                    extra_cost: state.extra_cost,
+                    observed_by: state.observed_by,
+                    support: state.support,
+                });
+            }
+            self.published[index] = state;
+        }
+        self.changed.clear();
+        out.len() - before
+    }
+
+    /// Forgets what was published: the next [`Self::collect_changes`] returns every cell that
+    /// is not plain unknown (a full map for a subscriber that starts from nothing).
+    pub fn republish_all(&mut self) {
+        for index in 0..self.state.len() {
+            self.published[index] = CellState::default();
+            if self.state[index] != CellState::default() {
+                self.changed.insert(index);
+            }
+        }
+    }
+
+    /// The current state of cell `(x, y)`, `None` outside the grid.
+    pub fn cell_state(&self, x: u32, y: u32) -> Option<CellState> {
+        (x < self.geometry.width_cells && y < self.geometry.height_cells)
+            .then(|| self.state[self.geometry.index(x, y)])
+    }
+
+    /// The statistics of cell `(x, y)`, `None` outside the grid.
+    pub fn cell_stats(&self, x: u32, y: u32) -> Option<&CellStats> {
+        (x < self.geometry.width_cells && y < self.geometry.height_cells)
+            .then(|| &self.stats[self.geometry.index(x, y)])
+    }
+
+    /// Bytes held by the map (constant after [`Self::new`]).
+    pub fn memory_bytes(&self) -> usize {
+        let cells = self.stats.capacity() * size_of::<CellStats>()
+            + self.ground_cache.capacity() * size_of::<Option<GroundPlane>>()
+            + self.base.capacity() * size_of::<Base>()
+            + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>();
+        let sets = 4 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
+        cells + sets + self.ground.samples.capacity() * 5 * size_of::<f64>()
+    }
+
+    pub(crate) fn stats_slice(&self) -> &[CellStats] {
+        &self.stats
+    }
+
+    pub(crate) fn set_stats(&mut self, stats: &[CellStats], counters: MapCounters) {
+        self.stats.copy_from_slice(stats);
+        self.counters = counters;
+        for index in 0..self.stats.len() {
+            if self.stats[index].count > 0 {
+                self.touched.insert(index);
+            }
+        }
+    }
+
+    fn classify(&mut self, index: usize) -> Base {
+        let stats = self.stats[index];
+        let mut high = stats.measured_high;
+        if stats.high_len > 0 {
+            high = high.saturating_add(self.estimated_high(index, &stats));
+        }
+        let t = self.thresholds;
+        let fraction_ok = stats
+            .high_fraction(t.fraction_min_features)
+            .is_none_or(|fraction| fraction >= t.obstacle_min_fraction);
+        let class = if high >= t.min_obstacle_support && fraction_ok {
+            BaseClass::Obstacle
+        } else if stats.count >= t.min_free_support {
+            BaseClass::Free
+        } else {
+            BaseClass::Unknown
+        };
+        let support = if class == BaseClass::Obstacle {
+            high
+        } else {
+            stats.count
+        };
+        Base {
+            class,
+            support,
+            high,
+        }
+    }
+
+    /// High features of unknown height that stand more than the traversable height above the
+    /// local ground of the neighbourhood.
+    fn estimated_high(&mut self, index: usize, stats: &CellStats) -> u32 {
+        let (x, y) = self.geometry.coords(index);
+        let (x0, y0, x1, y1) = self
+            .geometry
+            .window(x, y, self.thresholds.ground_reach_cells);
+        self.ground.samples.clear();
+        for ny in y0..=y1 {
+            for nx in x0..=x1 {
+                let neighbour = &self.stats[self.geometry.index(nx, ny)];
+                self.ground.samples.extend(
+                    neighbour
+                        .low_points()
+                        .iter()
+                        .map(|p| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])]),
+                );
+            }
+        }
+        let (cx, cy) = self.geometry.centre_m(x, y);
+        let plane = fit_ground(&mut self.ground, cx, cy);
+        self.ground_cache[index] = plane;
+        let Some(plane) = plane else {
+            return 0;
+        };
+        let t = self.thresholds;
+        stats
+            .high_points()
+            .iter()
+            .filter(|p| {
+                let height =
+                    (f64::from(p[2]) - plane.height_at(f64::from(p[0]), f64::from(p[1]))) as f32;
+                height > t.traversable_height_m && height <= t.max_feature_height_m
+            })
+            .count() as u32
+    }
+
+    fn derive_state(&self, index: usize) -> CellState {
+        let base = self.base[index];
+        let observed_by = self.stats[index].observed_by;
+        if base.class == BaseClass::Obstacle {
+            return CellState {
+                class: CellClass::Obstacle,
+                extra_cost: 0,
+                observed_by,
+                support: base.support,
+            };
+        }
+        let (x, y) = self.geometry.coords(index);
+        let mut extra_cost = 0;
+        for entry in &self.kernel {
+            let (nx, ny) = (
+                x as i64 + i64::from(entry.dx),
+                y as i64 + i64::from(entry.dy),
+            );
+            if nx < 0
+                || ny < 0
+                || nx >= i64::from(self.geometry.width_cells)
+                || ny >= i64::from(self.geometry.height_cells)
+            {
+                continue;
+            }
+            let neighbour = self.geometry.index(nx as u32, ny as u32);
+            if self.base[neighbour].class == BaseClass::Obstacle {
+                extra_cost = extra_cost.max(entry.cost);
+            }
+        }
+        let class = match (extra_cost > 0, base.class) {
+            (true, _) => CellClass::Inflated,
+            (false, BaseClass::Free) => CellClass::Free,
+            (false, _) => CellClass::Unknown,
+        };
+        CellState {
+            class,
+            extra_cost,
+            observed_by,
+            support: base.support,
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "map_tests.rs"]
+mod tests;

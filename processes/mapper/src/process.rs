@@ -1,0 +1,291 @@
+//! The `mapper` process: drains both robots' feature clouds every frame, merges them into the
+//! [`FeatureMap`], and publishes the changed cells on `MAP_UPDATES`.
+//!
+//! The first frame always publishes a `MapHeader` (possibly with no cells) so the planner
+//! learns the grid geometry; after that only frames with changes publish. A change set larger
+//! than one sample goes out in several samples of the same frame. Every `snapshot_every_frames`
+//! frames the map statistics are written (by a helper thread) next to the launch's config
+//! file; a restarted mapper
+//! restores them and republishes its whole map (issue #7). With `republish_every_frames` the
+//! whole known map is also sent periodically, for a planner that restarted.
+
+use hopnav_config::{ConfigError, HopnavConfig, parse_section};
+use hopnav_ipc::messages::{CellUpdate, CloudHeader, FrameTick, MapHeader, Robot};
+use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::topics;
+use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
+
+use crate::config::MapperConfig;
+use crate::geometry::GridGeometry;
+use crate::map::FeatureMap;
+use crate::snapshot;
+use crate::snapshot_writer::SnapshotWriter;
+
+/// File name of the map snapshot, in the launch's run folder.
+pub const SNAPSHOT_FILE: &str = "mapper_snapshot.bin";
+
+/// Why the mapper process failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MapperProcessError {
+    /// The configuration could not be loaded or is invalid.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A port could not be opened.
+    #[error(transparent)]
+    Open(#[from] hopnav_ipc::transport::OpenError),
+    /// A sample could not be sent.
+    #[error(transparent)]
+    Send(#[from] hopnav_ipc::transport::SendError),
+    /// A sample could not be received.
+    #[error(transparent)]
+    Receive(#[from] hopnav_ipc::transport::ReceiveError),
+}
+
+/// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
+/// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
+/// so the returned config always holds an explicit grid (see [`grid_geometry`]).
+pub fn mapper_section(config: &HopnavConfig) -> Result<MapperConfig, ConfigError> {
+    let mut section: MapperConfig = parse_section(config, "mapper")?;
+    section.validate()?;
+    let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
+    let terrain = &world.terrain;
+    let (nodes_x, nodes_y) = terrain.grid_nodes();
+    let extent_m = |nodes: usize| nodes.saturating_sub(1) as f64 * terrain.spacing_m;
+    let geometry = section.resolve_geometry((extent_m(nodes_x), extent_m(nodes_y)))?;
+    section.origin_x_m = Some(geometry.origin_x_m);
+    section.origin_y_m = Some(geometry.origin_y_m);
+    section.width_cells = Some(geometry.width_cells);
+    section.height_cells = Some(geometry.height_cells);
+    Ok(section)
+}
+
+/// The grid of a config returned by [`mapper_section`].
+pub fn grid_geometry(section: &MapperConfig) -> Result<GridGeometry, ConfigError> {
+    section.resolve_geometry((0.0, 0.0))
+}
+
+/// Merges the clouds and publishes map updates once per frame.
+pub struct MapperProcess {
+    config: MapperConfig,
+    map: FeatureMap,
+    jumper_clouds: SliceSubscriber<CloudHeader>,
+    rover_clouds: SliceSubscriber<CloudHeader>,
+    updates: SlicePublisher<MapHeader>,
+    changes: Vec<CellUpdate>,
+    header_sent: bool,
+    wrong_robot_clouds: u64,
+    snapshots: Option<SnapshotWriter>,
+    changed_since_snapshot: bool,
+    frames: u64,
+}
+
+impl MapperProcess {
+    fn drain(&mut self, robot: Robot) -> Result<(), MapperProcessError> {
+        let subscriber = match robot {
+            Robot::Jumper => &self.jumper_clouds,
+            Robot::Rover => &self.rover_clouds,
+        };
+        while let Some(cloud) = subscriber.receive()? {
+            if cloud.header().robot != robot.code() {
+                self.wrong_robot_clouds += 1;
+                continue;
+            }
+            if self.map.insert_cloud(robot, cloud.elements()) > 0 {
+                self.changed_since_snapshot = true;
+            }
+        }
+        Ok(())
+    }
+
+    fn publish(&mut self, tick: &FrameTick) -> Result<(), MapperProcessError> {
+        let geometry = *self.map.geometry();
+        let header = |count: usize| {
+            move |header: &mut MapHeader| {
+                header.stamp.frame_index = tick.stamp.frame_index;
+                header.stamp.sim_time_ns = tick.stamp.sim_time_ns;
+                header.origin_x_m = geometry.origin_x_m;
+                header.origin_y_m = geometry.origin_y_m;
+                header.cell_size_m = geometry.cell_size_m;
+                header.width_cells = geometry.width_cells;
+                header.height_cells = geometry.height_cells;
+                header.update_count = count as u32;
+            }
+        };
+        if self.changes.is_empty() {
+            if !self.header_sent {
+                self.updates
+                    .send_from_fn(0, header(0), |_| CellUpdate::default())?;
+                self.header_sent = true;
+            }
+            return Ok(());
+        }
+        let max_len = self.updates.max_len();
+        for chunk in self.changes.chunks(max_len) {
+            self.updates
+                .send_from_fn(chunk.len(), header(chunk.len()), |index| chunk[index])?;
+        }
+        self.header_sent = true;
+        Ok(())
+    }
+
+    /// Hands a snapshot to the writer thread when one is due (`force`: at stop) and the map
+    /// changed since the last one.
+    fn maybe_snapshot(&mut self, force: bool) {
+        let every = u64::from(self.config.snapshot_every_frames);
+        let Some(writer) = &mut self.snapshots else {
+            return;
+        };
+        let due = every > 0 && (force || self.frames.is_multiple_of(every));
+        if due && self.changed_since_snapshot && writer.request(&self.map) {
+            self.changed_since_snapshot = false;
+        }
+    }
+}
+
+impl Process for MapperProcess {
+    type Error = MapperProcessError;
+
+    fn new(context: &ProcessContext) -> Result<Self, MapperProcessError> {
+        let config = hopnav_config::load_file(&context.identity.config_path)?;
+        let section = mapper_section(&config)?;
+        let geometry = grid_geometry(&section)?;
+        let cells = geometry.cell_count();
+        let node = &context.node;
+        let mut map = FeatureMap::new(&section, geometry);
+        let snapshot_path = context
+            .identity
+            .config_path
+            .parent()
+            .map(|dir| dir.join(SNAPSHOT_FILE));
+        if let Some(path) = &snapshot_path {
+            match snapshot::restore_file(&mut map, path) {
+                Ok(true) => eprintln!("mapper: map restored from {}", path.display()),
+                Ok(false) => {}
+                Err(error) => eprintln!("mapper: starting with an empty map: {error}"),
+            }
+        }
+        let snapshots = match (&snapshot_path, section.snapshot_every_frames) {
+            (Some(path), 1..) => match SnapshotWriter::new(&map, path.clone()) {
+                Ok(writer) => Some(writer),
+                Err(error) => {
+                    eprintln!("mapper: no snapshots (writer thread: {error})");
+                    None
+                }
+            },
+            _ => None,
+        };
+        Ok(Self {
+            updates: SlicePublisher::open(node, &topics::MAP_UPDATES, cells)?,
+            jumper_clouds: SliceSubscriber::open(node, &topics::JUMPER_CLOUD)?,
+            rover_clouds: SliceSubscriber::open(node, &topics::ROVER_CLOUD)?,
+            changes: Vec::with_capacity(cells),
+            config: section,
+            map,
+            header_sent: false,
+            wrong_robot_clouds: 0,
+            snapshots,
+            changed_since_snapshot: false,
+            frames: 0,
+        })
+    }
+
+    fn step(
+        &mut self,
+        _context: &ProcessContext,
+        tick: &FrameTick,
+    ) -> Result<(), MapperProcessError> {
+        self.drain(Robot::Jumper)?;
+        self.drain(Robot::Rover)?;
+        let every = u64::from(self.config.republish_every_frames);
+        if every > 0 && self.frames > 0 && self.frames.is_multiple_of(every) {
+            self.map.republish_all();
+        }
+        self.map.update();
+        self.changes.clear();
+        self.map.collect_changes(&mut self.changes);
+        self.publish(tick)?;
+        self.frames += 1;
+        self.maybe_snapshot(false);
+        Ok(())
+    }
+
+    fn rejected_samples(&self) -> u64 {
+        self.jumper_clouds.rejected().total()
+            + self.rover_clouds.rejected().total()
+            + self.wrong_robot_clouds
+    }
+
+    fn stop(&mut self, _context: &ProcessContext) {
+        self.maybe_snapshot(true);
+        if let Some(writer) = &mut self.snapshots {
+            writer.finish();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn section_defaults_cover_the_world_terrain() {
+        let config = hopnav_config::load(None).expect("defaults");
+        let section = mapper_section(&config).expect("valid");
+        let geometry = grid_geometry(&section).expect("explicit");
+        assert_eq!((geometry.origin_x_m, geometry.origin_y_m), (-32.0, -32.0));
+        assert_eq!((geometry.width_cells, geometry.height_cells), (128, 128));
+    }
+
+    /// The block proposed for config/default.toml.
+    const DEFAULT_TOML_BLOCK: &str = r#"
+[processes.mapper]
+stage = 3
+budget_ms = 15.0
+restart = "on-failure"
+
+[mapper]
+cell_size_m = 0.5
+traversable_height_m = 0.3
+max_feature_height_m = 5.0
+min_obstacle_support = 3
+obstacle_min_fraction = 0.1
+fraction_min_features = 20
+min_free_support = 1
+ground_window_m = 2.0
+inflation_radius_m = 1.0
+inflation_max_cost = 2000
+max_cells_per_frame = 2000
+snapshot_every_frames = 50
+republish_every_frames = 0
+"#;
+
+    #[test]
+    fn proposed_default_block_is_valid_and_equals_the_defaults() {
+        let config = hopnav_config::load(Some(DEFAULT_TOML_BLOCK)).expect("valid");
+        assert_eq!(config.processes["mapper"].stage, 3);
+        let section = mapper_section(&config).expect("valid");
+        let defaults = mapper_section(&hopnav_config::load(None).expect("ok")).expect("ok");
+        assert_eq!(section, defaults);
+    }
+
+    #[test]
+    fn section_errors_name_the_key_and_range() {
+        let config = hopnav_config::load(Some("[mapper]\ncell_size_m = 0.0\n")).expect("toml");
+        let error = mapper_section(&config).unwrap_err().to_string();
+        assert!(error.contains("mapper.cell_size_m"), "{error}");
+        assert!(error.contains("[0.05, 10]"), "{error}");
+        let config = hopnav_config::load(Some("[mapper]\ncell_size = 0.5\n")).expect("toml");
+        let error = mapper_section(&config).unwrap_err().to_string();
+        assert!(error.contains("mapper.cell_size"), "{error}");
+    }
+
+    #[test]
+    fn explicit_grid_keys_win_over_the_terrain() {
+        let text =
+            "[mapper]\norigin_x_m = 0.0\nwidth_cells = 10\n[world.terrain]\nsize_y_m = 32.0\n";
+        let config = hopnav_config::load(Some(text)).expect("toml");
+        let geometry = grid_geometry(&mapper_section(&config).expect("valid")).expect("grid");
+        assert_eq!((geometry.origin_x_m, geometry.width_cells), (0.0, 10));
+        assert_eq!((geometry.origin_y_m, geometry.height_cells), (-16.0, 64));
+    }
+}

@@ -1,0 +1,250 @@
+//! Map snapshots: the cell statistics written to a file and read back, so a restarted mapper
+//! keeps the map it had built (issue #7: recovery without loss).
+//!
+//! Encoding goes through [`hopnav_ipc::codec`] (the project's one serialization module).
+//! Only the statistics are stored; classes, inflation and ground are recomputed on restore,
+//! so a snapshot stays valid when thresholds change. The geometry must match. A cell takes
+//! about 200 bytes, so grids above ≈ 300 000 cells exceed the codec's 64 MiB decode limit and
+//! are refused at encoding ([`SnapshotError::TooLarge`]).
+//!
+//! ```
+//! use hopnav_ipc::messages::{FeaturePoint, Robot};
+//! use hopnav_mapper::{config::MapperConfig, map::FeatureMap, snapshot};
+//! let config = MapperConfig::default();
+//! let geometry = config.resolve_geometry((8.0, 8.0)).unwrap();
+//! let mut map = FeatureMap::new(&config, geometry);
+//! map.insert_cloud(Robot::Rover, &[FeaturePoint::default()]);
+//! let mut bytes = Vec::new();
+//! snapshot::encode(&map, &mut bytes).unwrap();
+//! let mut restored = FeatureMap::new(&config, geometry);
+//! snapshot::restore(&mut restored, &bytes).unwrap();
+//! assert_eq!(restored.counters(), map.counters());
+//! ```
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::cell::CellStats;
+use crate::geometry::GridGeometry;
+use crate::map::{FeatureMap, MapCounters};
+
+/// Version of the snapshot layout; bump when [`CellStats`] changes.
+pub const SNAPSHOT_VERSION: u32 = 1;
+
+/// Why a snapshot could not be written or restored.
+#[derive(Debug, thiserror::Error)]
+pub enum SnapshotError {
+    /// Encoding or decoding failed (corrupt or truncated file).
+    #[error(transparent)]
+    Codec(#[from] hopnav_ipc::codec::CodecError),
+    /// The file could not be read or written.
+    #[error("snapshot file {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The snapshot was written by another layout version.
+    #[error("snapshot version {found}, expected {SNAPSHOT_VERSION}")]
+    Version {
+        /// Version in the file.
+        found: u32,
+    },
+    /// The map is too large for the codec's decode limit: it could not be read back.
+    #[error("snapshot of {bytes} bytes exceeds the codec limit of {limit} bytes")]
+    TooLarge {
+        /// Encoded size.
+        bytes: usize,
+        /// [`hopnav_ipc::codec::MAX_DECODE_BYTES`].
+        limit: usize,
+    },
+    /// The snapshot's grid differs from the map's.
+    #[error("snapshot grid {found:?} differs from the configured grid {expected:?}")]
+    Geometry {
+        /// Grid in the file.
+        found: GridGeometry,
+        /// Grid of the map.
+        expected: GridGeometry,
+    },
+}
+
+#[derive(Serialize)]
+struct SnapshotRef<'a> {
+    version: u32,
+    geometry: GridGeometry,
+    counters: MapCounters,
+    stats: &'a [CellStats],
+}
+
+#[derive(Deserialize)]
+struct SnapshotOwned {
+    version: u32,
+    geometry: GridGeometry,
+    counters: MapCounters,
+    stats: Vec<CellStats>,
+}
+
+/// Encodes the map's statistics into `buffer` (cleared first; its allocation is reused).
+pub fn encode(map: &FeatureMap, buffer: &mut Vec<u8>) -> Result<(), SnapshotError> {
+    encode_parts(map.geometry(), map.counters(), map.stats_slice(), buffer)
+}
+
+/// Encodes a copy of a map's statistics (see [`crate::snapshot_writer`]).
+pub(crate) fn encode_parts(
+    geometry: &GridGeometry,
+    counters: MapCounters,
+    stats: &[CellStats],
+    buffer: &mut Vec<u8>,
+) -> Result<(), SnapshotError> {
+    let snapshot = SnapshotRef {
+        version: SNAPSHOT_VERSION,
+        geometry: *geometry,
+        counters,
+        stats,
+    };
+    hopnav_ipc::codec::encode_into(&snapshot, buffer)?;
+    let limit = hopnav_ipc::codec::MAX_DECODE_BYTES;
+    if buffer.len() > limit {
+        return Err(SnapshotError::TooLarge {
+            bytes: buffer.len(),
+            limit,
+        });
+    }
+    Ok(())
+}
+
+/// Replaces the statistics of `map` by the snapshot in `bytes`; the next
+/// [`FeatureMap::update`] reclassifies every observed cell. On error `map` is unchanged.
+pub fn restore(map: &mut FeatureMap, bytes: &[u8]) -> Result<(), SnapshotError> {
+    let snapshot: SnapshotOwned = hopnav_ipc::codec::decode(bytes)?;
+    if snapshot.version != SNAPSHOT_VERSION {
+        return Err(SnapshotError::Version {
+            found: snapshot.version,
+        });
+    }
+    let expected = *map.geometry();
+    if snapshot.geometry != expected || snapshot.stats.len() != expected.cell_count() {
+        return Err(SnapshotError::Geometry {
+            found: snapshot.geometry,
+            expected,
+        });
+    }
+    map.set_stats(&snapshot.stats, snapshot.counters);
+    Ok(())
+}
+
+/// Writes `buffer` to `path` atomically (a temporary file, then a rename).
+pub fn write_file(path: &Path, buffer: &[u8]) -> Result<(), SnapshotError> {
+    let io = |source| SnapshotError::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let temporary = path.with_extension("tmp");
+    std::fs::write(&temporary, buffer).map_err(io)?;
+    std::fs::rename(&temporary, path).map_err(io)
+}
+
+/// Restores `map` from the file at `path`; `Ok(false)` when there is no such file.
+pub fn restore_file(map: &mut FeatureMap, path: &Path) -> Result<bool, SnapshotError> {
+    match std::fs::read(path) {
+        Ok(bytes) => restore(map, &bytes).map(|()| true),
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => Ok(false),
+        Err(source) => Err(SnapshotError::Io {
+            path: path.display().to_string(),
+            source,
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use hopnav_ipc::messages::{CellClass, FeaturePoint, Robot};
+
+    use super::*;
+    use crate::config::MapperConfig;
+
+    fn map_with_rock() -> FeatureMap {
+        let config = MapperConfig::default();
+        let mut map = FeatureMap::new(&config, config.resolve_geometry((8.0, 8.0)).unwrap());
+        let mut cloud = Vec::new();
+        for i in 0..40 {
+            for j in 0..40 {
+                let (x, y) = (-2.0 + i as f32 * 0.1, -2.0 + j as f32 * 0.1);
+                let rock = (0.0..0.5).contains(&x) && (0.0..0.5).contains(&y);
+                cloud.push(FeaturePoint {
+                    position_m: [x, y, 0.2 * x + if rock { 0.5 } else { 0.0 }],
+                    height_above_ground_m: f32::NAN,
+                    ..FeaturePoint::default()
+                });
+            }
+        }
+        map.insert_cloud(Robot::Jumper, &cloud);
+        map.update();
+        map
+    }
+
+    #[test]
+    fn restore_rebuilds_the_same_map() {
+        let mut original = map_with_rock();
+        let mut original_changes = Vec::new();
+        original.collect_changes(&mut original_changes);
+        let mut bytes = Vec::new();
+        encode(&original, &mut bytes).unwrap();
+
+        let config = MapperConfig::default();
+        let mut restored = FeatureMap::new(&config, *original.geometry());
+        restore(&mut restored, &bytes).unwrap();
+        restored.update();
+        let mut restored_changes = Vec::new();
+        restored.collect_changes(&mut restored_changes);
+        let key = |c: &hopnav_ipc::messages::CellUpdate| (c.y, c.x);
+        original_changes.sort_by_key(key);
+        restored_changes.sort_by_key(key);
+        assert_eq!(original_changes, restored_changes);
+        assert!(
+            original_changes
+                .iter()
+                .any(|c| c.class == CellClass::Obstacle.code())
+        );
+        assert_eq!(restored.counters(), original.counters());
+    }
+
+    #[test]
+    fn corrupt_or_foreign_snapshots_are_refused() {
+        let map = map_with_rock();
+        let mut bytes = Vec::new();
+        encode(&map, &mut bytes).unwrap();
+        let config = MapperConfig::default();
+        let mut other = FeatureMap::new(&config, config.resolve_geometry((9.0, 8.0)).unwrap());
+        assert!(matches!(
+            restore(&mut other, &bytes),
+            Err(SnapshotError::Geometry { .. })
+        ));
+        let mut same = FeatureMap::new(&config, *map.geometry());
+        assert!(restore(&mut same, &bytes[..bytes.len() / 2]).is_err());
+        bytes[0] = 9;
+        assert!(matches!(
+            restore(&mut same, &bytes),
+            Err(SnapshotError::Version { .. })
+        ));
+        assert_eq!(same.counters(), MapCounters::default());
+    }
+
+    #[test]
+    fn files_round_trip_and_a_missing_file_is_no_error() {
+        let dir = std::env::temp_dir().join(format!("hopnav-mapper-snap-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("map.bin");
+        let map = map_with_rock();
+        let mut bytes = Vec::new();
+        encode(&map, &mut bytes).unwrap();
+        write_file(&path, &bytes).unwrap();
+        let config = MapperConfig::default();
+        let mut restored = FeatureMap::new(&config, *map.geometry());
+        assert!(restore_file(&mut restored, &path).unwrap());
+        assert!(!restore_file(&mut restored, &dir.join("none.bin")).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,150 @@
+//! The mapper process over real iceoryx2 ports in an isolated namespace: header on the first
+//! frame, changed cells after clouds, nothing on quiet frames, rejected samples counted, and a
+//! restart that restores the map from its snapshot.
+
+use std::time::Duration;
+
+use hopnav_ipc::messages::{
+    CellClass, CellUpdate, CloudHeader, FeaturePoint, FrameTick, MapHeader, Robot, SampleStamp,
+};
+use hopnav_ipc::namespace::Namespace;
+use hopnav_ipc::process_loop::{Process, ProcessContext, ProcessIdentity};
+use hopnav_ipc::topics;
+use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
+use hopnav_mapper::process::{MapperProcess, SNAPSHOT_FILE};
+
+fn tick(frame_index: u64) -> FrameTick {
+    FrameTick {
+        stamp: SampleStamp {
+            frame_index,
+            sim_time_ns: frame_index * 100_000_000,
+            ..SampleStamp::default()
+        },
+        ..FrameTick::default()
+    }
+}
+
+fn context(namespace: &Namespace, run_dir: &std::path::Path) -> ProcessContext {
+    ProcessContext {
+        node: namespace.create_node("mapper").expect("node"),
+        identity: ProcessIdentity {
+            name: "mapper".into(),
+            run_id: namespace.run_id().into(),
+            slot: 0,
+            incarnation: 0,
+            heartbeat_period: Duration::from_millis(100),
+            config_path: run_dir.join("config.toml"),
+        },
+    }
+}
+
+/// Ground at z = 0 around (1, 1) and a 0.6 m rock in the cell at (1.2, 1.2).
+fn rover_cloud() -> Vec<FeaturePoint> {
+    let mut points = Vec::new();
+    for i in 0..30 {
+        for j in 0..30 {
+            let (x, y) = (i as f32 * 0.1 - 0.5, j as f32 * 0.1 - 0.5);
+            let rock = (1.0..1.5).contains(&x) && (1.0..1.5).contains(&y);
+            let height = if rock { 0.6 } else { 0.0 };
+            points.push(FeaturePoint {
+                position_m: [x, y, height],
+                height_above_ground_m: height,
+                track_id: (i * 30 + j) as u32,
+                depth_sigma_m: 0.05,
+            });
+        }
+    }
+    points
+}
+
+fn send(publisher: &mut SlicePublisher<CloudHeader>, robot: u32, points: &[FeaturePoint]) {
+    publisher
+        .send_from_fn(
+            points.len(),
+            |header| {
+                header.point_count = points.len() as u32;
+                header.robot = robot;
+            },
+            |index| points[index],
+        )
+        .expect("send");
+}
+
+/// All updates of the samples received now, and the last header.
+fn receive_all(subscriber: &SliceSubscriber<MapHeader>) -> (Vec<CellUpdate>, Option<MapHeader>) {
+    let mut updates = Vec::new();
+    let mut header = None;
+    while let Some(sample) = subscriber.receive().expect("receive") {
+        updates.extend_from_slice(sample.elements());
+        header = Some(*sample.header());
+    }
+    (updates, header)
+}
+
+#[test]
+fn publishes_header_then_changed_cells_and_recovers_after_restart() {
+    let run_id = format!("mapper-test-{}", std::process::id());
+    let namespace = Namespace::new(&run_id).expect("namespace");
+    let run_dir = std::env::temp_dir().join(&run_id);
+    std::fs::create_dir_all(&run_dir).expect("run dir");
+    let config = hopnav_config::load(Some("[mapper]\nsnapshot_every_frames = 1\n")).expect("ok");
+    std::fs::write(
+        run_dir.join("config.toml"),
+        hopnav_config::to_toml(&config).expect("toml"),
+    )
+    .expect("write config");
+
+    let test_node = namespace.create_node("mapper_test").expect("node");
+    let updates =
+        SliceSubscriber::<MapHeader>::open(&test_node, &topics::MAP_UPDATES).expect("sub");
+    let mut rover =
+        SlicePublisher::<CloudHeader>::open(&test_node, &topics::ROVER_CLOUD, 4096).expect("pub");
+
+    let context = context(&namespace, &run_dir);
+    let mut mapper = MapperProcess::new(&context).expect("new");
+
+    // Frame 0, no clouds: the header alone announces the grid.
+    mapper.step(&context, &tick(0)).expect("step");
+    let (cells, header) = receive_all(&updates);
+    let header = header.expect("a header on the first frame");
+    assert!(cells.is_empty());
+    assert_eq!((header.width_cells, header.height_cells), (128, 128));
+    assert_eq!((header.origin_x_m, header.cell_size_m), (-32.0, 0.5));
+
+    // Frame 1: a rover cloud with a rock, plus a cloud that claims the wrong robot.
+    send(&mut rover, Robot::Rover.code(), &rover_cloud());
+    send(&mut rover, Robot::Jumper.code(), &rover_cloud());
+    mapper.step(&context, &tick(1)).expect("step");
+    let (cells, header) = receive_all(&updates);
+    assert_eq!(header.expect("changes").stamp.frame_index, 1);
+    let rock = cells
+        .iter()
+        .find(|c| (c.x, c.y) == (66, 66))
+        .expect("rock cell published");
+    assert_eq!(rock.class, CellClass::Obstacle.code());
+    assert_eq!(rock.observed_by, 1 << Robot::Rover.code());
+    assert!(cells.iter().any(|c| c.class == CellClass::Inflated.code()));
+    assert_eq!(mapper.rejected_samples(), 1, "the wrong-robot cloud");
+
+    // Frame 2, nothing new: nothing published.
+    mapper.step(&context, &tick(2)).expect("step");
+    assert!(receive_all(&updates).1.is_none());
+
+    // A restarted mapper restores its map and republishes it on its first frame.
+    mapper.stop(&context);
+    drop(mapper);
+    drop(context);
+    assert!(run_dir.join(SNAPSHOT_FILE).exists());
+    let context = self::context(&namespace, &run_dir);
+    let mut restarted = MapperProcess::new(&context).expect("new");
+    restarted.step(&context, &tick(3)).expect("step");
+    let (recovered, _) = receive_all(&updates);
+    let mut before = cells;
+    let mut after = recovered;
+    before.sort_by_key(|c| (c.y, c.x));
+    after.sort_by_key(|c| (c.y, c.x));
+    assert_eq!(before, after);
+
+    drop(restarted);
+    std::fs::remove_dir_all(&run_dir).expect("cleanup");
+}

@@ -19,6 +19,10 @@ pub const PROCESSES: &[(&str, Entry)] = &[
         "planner",
         run_process::<hopnav_planner::process::PlannerProcess>,
     ),
+    (
+        "mapper",
+        run_process::<hopnav_mapper::process::MapperProcess>,
+    ),
 ];
 
 /// A process library's config table and its validator.
@@ -40,6 +44,9 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
     }),
     ("planner", |config| {
         hopnav_planner::process::planner_section(config).map(|_| ())
+    }),
+    ("mapper", |config| {
+        hopnav_mapper::process::mapper_section(config).map(|_| ())
     }),
 ];
 

@@ -1,7 +1,7 @@
 //! World-frame feature cloud of a keyframe pair: triangulation of the RANSAC inliers with the
 //! metric relative pose, and the height of each point above a robust local ground plane.
 
-use hopnav_vision::triangulate::{Method, TriangulationConfig, triangulate_checked};
+use hopnav_vision::triangulate::{Method, TriangulationConfig, parallax_rad, triangulate_checked};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector2, Vector3};
 
 /// A triangulated feature in the world frame.
@@ -11,6 +11,8 @@ pub struct WorldPoint {
     pub position_m: Point3<f64>,
     /// Height above the local ground plane fitted to the cloud, metres (`None` if no plane).
     pub height_above_ground_m: Option<f64>,
+    /// One-sigma range uncertainty from a 1 px ray error at the pair's parallax, metres.
+    pub depth_sigma_m: f64,
 }
 
 /// Triangulates `x1[i] ↔ x2[i]` for `i` in `indices` with the metric `cam2_from_cam1` and
@@ -35,9 +37,13 @@ pub fn triangulate_cloud(
             continue;
         };
         if let Ok(p) = triangulate_checked(cam2_from_cam1, a, b, &cfg, Method::Midpoint) {
+            // Range error ≈ range · ray error / parallax (small-angle triangulation).
+            let parallax_rad = parallax_rad(cam2_from_cam1, &p.point_cam1).max(1e-6);
+            let depth_sigma_m = p.point_cam1.coords.norm() / focal_px.max(1.0) / parallax_rad;
             out.push(WorldPoint {
                 position_m: world_from_cam1 * p.point_cam1,
                 height_above_ground_m: None,
+                depth_sigma_m,
             });
         }
     }
@@ -75,11 +81,35 @@ pub fn fill_heights_above_ground(points: &mut [WorldPoint]) -> Option<Vector3<f6
         plane = Some(coeffs);
     }
     let plane = plane?;
-    for (p, res) in points.iter_mut().zip(&residuals) {
-        p.height_above_ground_m = Some(*res);
+    // Rolling terrain bends away from one plane: measure each point against the low quartile
+    // of its neighbours' residuals (same cloud, so the same pose and scale), which follows the
+    // local ground and leaves rocks standing.
+    let mut neighbour_residuals = Vec::with_capacity(points.len());
+    let local_offsets: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            neighbour_residuals.clear();
+            neighbour_residuals.extend(points.iter().zip(&residuals).filter_map(|(q, res)| {
+                let dx = q.position_m.x - p.position_m.x;
+                let dy = q.position_m.y - p.position_m.y;
+                (dx * dx + dy * dy <= LOCAL_GROUND_RADIUS_M * LOCAL_GROUND_RADIUS_M).then_some(*res)
+            }));
+            if neighbour_residuals.len() < 8 {
+                return 0.0;
+            }
+            neighbour_residuals.sort_by(f64::total_cmp);
+            neighbour_residuals[neighbour_residuals.len() / 4]
+        })
+        .collect();
+    for ((p, res), offset) in points.iter_mut().zip(&residuals).zip(&local_offsets) {
+        p.height_above_ground_m = Some(res - offset);
     }
     Some(plane)
 }
+
+/// Neighbourhood of the local ground estimate, metres (about a rock's size, well below the
+/// terrain's relief wavelength).
+const LOCAL_GROUND_RADIUS_M: f64 = 2.5;
 
 #[cfg(test)]
 mod tests {
@@ -92,6 +122,7 @@ mod tests {
                 let (x, y) = ((i % 20) as f64, (i / 20) as f64);
                 let rock = if i % 17 == 0 { 0.8 } else { 0.0 };
                 WorldPoint {
+                    depth_sigma_m: 0.0,
                     position_m: Point3::new(x, y, 0.1 * x + 2.0 + rock),
                     height_above_ground_m: None,
                 }

@@ -202,7 +202,7 @@ impl Process for JumperVoProcess {
                             .height_above_ground_m
                             .map_or(f32::NAN, |h| h as f32),
                         track_id: index as u32,
-                        depth_sigma_m: 0.0,
+                        depth_sigma_m: point.depth_sigma_m as f32,
                     }
                 },
             )?;

@@ -36,6 +36,9 @@ pub struct MapperConfig {
     pub traversable_height_m: f64,
     /// Features higher than this above the local ground are outliers and ignored, metres.
     pub max_feature_height_m: f64,
+    /// Features whose depth is less certain than this (one sigma) are ignored, metres: a
+    /// monocular point triangulated at low parallax cannot tell a rock from the ground.
+    pub max_depth_sigma_m: f64,
     /// High features a cell needs to become an obstacle (rejects single outliers).
     pub min_obstacle_support: u32,
     /// Once a cell has `fraction_min_features` judged features, at least this fraction of them
@@ -58,8 +61,8 @@ pub struct MapperConfig {
     pub max_cells_per_frame: u32,
     /// Frames between two map snapshots on disk (0 = never).
     pub snapshot_every_frames: u32,
-    /// Frames between two publications of the whole known map, so a restarted planner
-    /// (`MAP_UPDATES` keeps no history) recovers it (0 = never: changes only).
+    /// Frames between two publications of the whole known map on `MAP_SNAPSHOT` (history 1),
+    /// so a restarted planner, or one that missed updates, recovers it (0 = never).
     pub republish_every_frames: u32,
 }
 
@@ -73,6 +76,7 @@ impl Default for MapperConfig {
             height_cells: None,
             traversable_height_m: 0.3,
             max_feature_height_m: 5.0,
+            max_depth_sigma_m: 0.25,
             min_obstacle_support: 3,
             obstacle_min_fraction: 0.1,
             fraction_min_features: 20,
@@ -82,7 +86,7 @@ impl Default for MapperConfig {
             inflation_max_cost: 2000,
             max_cells_per_frame: 2000,
             snapshot_every_frames: 50,
-            republish_every_frames: 0,
+            republish_every_frames: 20,
         }
     }
 }
@@ -131,6 +135,7 @@ impl MapperConfig {
             self.traversable_height_m,
             1000.0,
         )?;
+        check_f64("max_depth_sigma_m", self.max_depth_sigma_m, 0.001, 100.0)?;
         check_u64(
             "min_obstacle_support",
             u64::from(self.min_obstacle_support),

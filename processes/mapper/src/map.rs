@@ -28,6 +28,8 @@ pub struct MapCounters {
     pub outside_grid: u64,
     /// Features whose measured height is beyond `max_feature_height_m` (either sign).
     pub implausible_height: u64,
+    /// Features whose depth sigma exceeds `max_depth_sigma_m`.
+    pub uncertain: u64,
 }
 
 /// Published state of one cell.
@@ -85,6 +87,7 @@ enum BaseClass {
 struct Thresholds {
     traversable_height_m: f32,
     max_feature_height_m: f32,
+    max_depth_sigma_m: f32,
     min_obstacle_support: u32,
     obstacle_min_fraction: f64,
     fraction_min_features: u32,
@@ -133,6 +136,7 @@ impl FeatureMap {
             thresholds: Thresholds {
                 traversable_height_m: config.traversable_height_m as f32,
                 max_feature_height_m: config.max_feature_height_m as f32,
+                max_depth_sigma_m: config.max_depth_sigma_m as f32,
                 min_obstacle_support: config.min_obstacle_support,
                 obstacle_min_fraction: config.obstacle_min_fraction,
                 fraction_min_features: config.fraction_min_features,
@@ -180,6 +184,10 @@ impl FeatureMap {
     fn insert_point(&mut self, robot: Robot, point: &FeaturePoint) {
         if !point.is_valid() {
             self.counters.non_finite += 1;
+            return;
+        }
+        if point.depth_sigma_m > self.thresholds.max_depth_sigma_m {
+            self.counters.uncertain += 1;
             return;
         }
         let height = point.height_above_ground_m;

@@ -17,7 +17,7 @@ use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 
 use crate::config::MapperConfig;
 use crate::geometry::GridGeometry;
-use crate::map::FeatureMap;
+use crate::map::{CellState, FeatureMap};
 use crate::snapshot;
 use crate::snapshot_writer::SnapshotWriter;
 
@@ -71,7 +71,13 @@ pub struct MapperProcess {
     jumper_clouds: SliceSubscriber<CloudHeader>,
     rover_clouds: SliceSubscriber<CloudHeader>,
     updates: SlicePublisher<MapHeader>,
+    snapshot_topic: SlicePublisher<MapHeader>,
     changes: Vec<CellUpdate>,
+    /// Every known cell, for the snapshot topic (preallocated for the whole grid).
+    known_cells: Vec<CellUpdate>,
+    changed_since_republish: bool,
+    /// False in rover-only missions: the jumper's clouds are drained and ignored.
+    accept_jumper_clouds: bool,
     header_sent: bool,
     wrong_robot_clouds: u64,
     snapshots: Option<SnapshotWriter>,
@@ -88,6 +94,9 @@ impl MapperProcess {
         while let Some(cloud) = subscriber.receive()? {
             if cloud.header().robot != robot.code() {
                 self.wrong_robot_clouds += 1;
+                continue;
+            }
+            if robot == Robot::Jumper && !self.accept_jumper_clouds {
                 continue;
             }
             if self.map.insert_cloud(robot, cloud.elements()) > 0 {
@@ -125,6 +134,44 @@ impl MapperProcess {
                 .send_from_fn(chunk.len(), header(chunk.len()), |index| chunk[index])?;
         }
         self.header_sent = true;
+        Ok(())
+    }
+
+    /// Publishes every known cell on `MAP_SNAPSHOT` (one sample; the publisher holds the grid).
+    fn publish_snapshot(&mut self, tick: &FrameTick) -> Result<(), MapperProcessError> {
+        let geometry = *self.map.geometry();
+        self.known_cells.clear();
+        for y in 0..geometry.height_cells {
+            for x in 0..geometry.width_cells {
+                if let Some(state) = self.map.cell_state(x, y)
+                    && state != CellState::default()
+                {
+                    self.known_cells.push(CellUpdate {
+                        x,
+                        y,
+                        class: state.class.code(),
+                        extra_cost: state.extra_cost,
+                        observed_by: state.observed_by,
+                        support: state.support,
+                    });
+                }
+            }
+        }
+        let cells = &self.known_cells;
+        self.snapshot_topic.send_from_fn(
+            cells.len(),
+            |header: &mut MapHeader| {
+                header.stamp.frame_index = tick.stamp.frame_index;
+                header.stamp.sim_time_ns = tick.stamp.sim_time_ns;
+                header.origin_x_m = geometry.origin_x_m;
+                header.origin_y_m = geometry.origin_y_m;
+                header.cell_size_m = geometry.cell_size_m;
+                header.width_cells = geometry.width_cells;
+                header.height_cells = geometry.height_cells;
+                header.update_count = cells.len() as u32;
+            },
+            |index| cells[index],
+        )?;
         Ok(())
     }
 
@@ -176,6 +223,11 @@ impl Process for MapperProcess {
         };
         Ok(Self {
             updates: SlicePublisher::open(node, &topics::MAP_UPDATES, cells)?,
+            snapshot_topic: SlicePublisher::open(node, &topics::MAP_SNAPSHOT, cells)?,
+            known_cells: Vec::with_capacity(cells),
+            // A restored map is published at once.
+            changed_since_republish: true,
+            accept_jumper_clouds: config.mission.mode == hopnav_config::MissionMode::Cooperative,
             jumper_clouds: SliceSubscriber::open(node, &topics::JUMPER_CLOUD)?,
             rover_clouds: SliceSubscriber::open(node, &topics::ROVER_CLOUD)?,
             changes: Vec::with_capacity(cells),
@@ -196,14 +248,16 @@ impl Process for MapperProcess {
     ) -> Result<(), MapperProcessError> {
         self.drain(Robot::Jumper)?;
         self.drain(Robot::Rover)?;
-        let every = u64::from(self.config.republish_every_frames);
-        if every > 0 && self.frames > 0 && self.frames.is_multiple_of(every) {
-            self.map.republish_all();
-        }
         self.map.update();
         self.changes.clear();
         self.map.collect_changes(&mut self.changes);
+        self.changed_since_republish |= !self.changes.is_empty();
         self.publish(tick)?;
+        let every = u64::from(self.config.republish_every_frames);
+        if every > 0 && self.frames.is_multiple_of(every) && self.changed_since_republish {
+            self.publish_snapshot(tick)?;
+            self.changed_since_republish = false;
+        }
         self.frames += 1;
         self.maybe_snapshot(false);
         Ok(())
@@ -247,6 +301,7 @@ restart = "on-failure"
 cell_size_m = 0.5
 traversable_height_m = 0.3
 max_feature_height_m = 5.0
+max_depth_sigma_m = 0.25
 min_obstacle_support = 3
 obstacle_min_fraction = 0.1
 fraction_min_features = 20
@@ -256,7 +311,7 @@ inflation_radius_m = 1.0
 inflation_max_cost = 2000
 max_cells_per_frame = 2000
 snapshot_every_frames = 50
-republish_every_frames = 0
+republish_every_frames = 20
 "#;
 
     #[test]

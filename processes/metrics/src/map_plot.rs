@@ -17,6 +17,8 @@ pub enum Observer {
     Jumper,
     /// Both robots.
     Both,
+    /// Nobody: an unseen cell inside an obstacle's inflation.
+    Nobody,
 }
 
 /// What a mapped cell is.
@@ -86,16 +88,19 @@ fn cell_colour(class: MappedClass, observer: Observer) -> RGBColor {
         (MappedClass::Inflated, Observer::Rover) => RGBColor(150, 185, 235),
         (MappedClass::Inflated, Observer::Jumper) => RGBColor(245, 170, 160),
         (MappedClass::Inflated, Observer::Both) => RGBColor(205, 170, 220),
+        (MappedClass::Obstacle, Observer::Nobody) => RGBColor(90, 90, 90),
+        (MappedClass::Inflated, Observer::Nobody) => RGBColor(225, 215, 190),
     }
 }
 
-const LEGEND: [(&str, MappedClass, Observer); 6] = [
+const LEGEND: [(&str, MappedClass, Observer); 7] = [
     ("rover obstacle", MappedClass::Obstacle, Observer::Rover),
     ("rover inflated", MappedClass::Inflated, Observer::Rover),
     ("jumper obstacle", MappedClass::Obstacle, Observer::Jumper),
     ("jumper inflated", MappedClass::Inflated, Observer::Jumper),
     ("both obstacle", MappedClass::Obstacle, Observer::Both),
     ("both inflated", MappedClass::Inflated, Observer::Both),
+    ("inflated, unseen", MappedClass::Inflated, Observer::Nobody),
 ];
 
 /// Draws `figure` into a PNG at `path`.

@@ -251,7 +251,8 @@ impl MissionObserver {
                 ) {
                     (true, true) => Observer::Both,
                     (false, true) => Observer::Jumper,
-                    _ => Observer::Rover,
+                    (true, false) => Observer::Rover,
+                    (false, false) => Observer::Nobody,
                 };
                 Some(MappedCell {
                     x,

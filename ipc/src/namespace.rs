@@ -127,6 +127,15 @@ impl Namespace {
             .count()
     }
 
+    /// Time since the newest file of this namespace was modified (`None` without files).
+    pub fn newest_file_age(&self) -> Option<std::time::Duration> {
+        self.leftover_files()
+            .iter()
+            .filter_map(|path| std::fs::metadata(path).ok()?.modified().ok())
+            .max()
+            .map(|newest| newest.elapsed().unwrap_or_default())
+    }
+
     /// Files of this namespace still on disk (shared memory and iceoryx2 bookkeeping).
     pub fn leftover_files(&self) -> Vec<PathBuf> {
         let prefix = format!("{FILE_PREFIX}{}_", self.run_id);
@@ -173,6 +182,16 @@ pub fn cleanup_dead_runs() -> StaleCleanup {
         if census.alive > 0 || census.unknown > 0 {
             continue;
         }
+        // Files but no node at all: either a launch that died before its first node, or one
+        // starting right now (its node is being created). Only the first kind is stale, and
+        // its files are not fresh.
+        if census.dead == 0
+            && namespace
+                .newest_file_age()
+                .is_none_or(|age| age < FRESH_RUN_AGE)
+        {
+            continue;
+        }
         report.removed_nodes += census.removed;
         // Files iceoryx2 could not attribute to a node (e.g. a service created by a process
         // killed mid-creation) belong to no one now that no node of the run lives.
@@ -181,6 +200,9 @@ pub fn cleanup_dead_runs() -> StaleCleanup {
     }
     report
 }
+
+/// Node-less files younger than this may belong to a launch that is starting.
+const FRESH_RUN_AGE: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Every hopnav file in the iceoryx2 root directories and in /dev/shm.
 pub fn hopnav_files() -> Vec<PathBuf> {

@@ -186,7 +186,8 @@ mod tests {
             "{error}"
         );
         let config = load(Some("[phsyics]\nx = 1\n")).expect("loads");
-        let error = crate::check_section_names(&config, &["physics"]).expect_err("typo");
+        let known = ["physics", "world", "mapper", "planner"];
+        let error = crate::check_section_names(&config, &known).expect_err("typo");
         assert!(error.to_string().contains("phsyics"), "{error}");
     }
 

@@ -74,8 +74,7 @@ fn to_bytes<T: PlainOldData>(value: &T) -> Vec<u8> {
     // SAFETY: `value` is a live reference to `size_of::<T>()` bytes; `PlainOldData` types
     // have no padding (every message file asserts its size equals the sum of its fields), so
     // all of them are initialized.
-    unsafe { std::slice::from_raw_parts((value as *const T).cast::<u8>(), size_of::<T>()) }
-        .to_vec()
+    unsafe { std::slice::from_raw_parts((value as *const T).cast::<u8>(), size_of::<T>()) }.to_vec()
 }
 
 /// Values that hit the edges of numeric checks when written over a field.
@@ -190,7 +189,10 @@ fn cell() -> CellUpdate {
 }
 
 fn path_point() -> PathPoint {
-    PathPoint { x_m: 1.0, y_m: -2.0 }
+    PathPoint {
+        x_m: 1.0,
+        y_m: -2.0,
+    }
 }
 
 /// Checks one message type: arbitrary and corrupted values never panic in `validate`.

@@ -273,6 +273,7 @@ impl SliceHeader for MapHeader {
 impl SliceHeader for PathHeader {
     type Element = PathPoint;
     fn validate_slice(&self, points: &[PathPoint]) -> Result<(), Rejection> {
+        self.validate()?;
         length(self.point_count as usize, points.len())?;
         match points
             .iter()
@@ -298,8 +299,11 @@ pub struct SequenceGuard<Origin: PartialEq + Copy> {
 impl<Origin: PartialEq + Copy> SequenceGuard<Origin> {
     /// A guard remembering at most `capacity` publishers (the least recent is forgotten).
     pub fn new(capacity: usize) -> Self {
+        // Reserve for the usual few publishers only: an absurd capacity (a corrupt service
+        // setting) must not become a huge allocation or a capacity-overflow panic.
+        const PREALLOCATED: usize = 16;
         Self {
-            last_by_origin: Vec::with_capacity(capacity.max(1)),
+            last_by_origin: Vec::with_capacity(capacity.clamp(1, PREALLOCATED)),
             capacity: capacity.max(1),
         }
     }

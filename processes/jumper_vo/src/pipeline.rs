@@ -259,21 +259,66 @@ impl JumperVo {
             if let Some(z) = altitude {
                 self.fit.add_altitude(tau, z, self.config.altimeter_sigma_m);
             }
-            if let Some(td) = self.fit.touchdown_tau_s()
-                && tau > 1.0
-                && self.fit.altitude_rows() >= 10
-                && tau >= td
+            if self
+                .descent_height_m(tau)
+                .is_some_and(|h| h <= -self.config.touchdown_max_drop_m)
             {
-                return self.land(&input, td, tau);
+                return self.land(&input, tau, tau);
             }
         }
         let tracked = self.tracks.track(&input.image).unwrap_or(0);
         if self.phase == Phase::Landed {
             return self.landed_frame(&input, tau, tracked);
         }
-        match self.estimate(tau, tracked, altitude) {
-            Some(out) => self.finish(out, &input, tau),
-            None => self.propagate(&input, tau, tracked, altitude),
+        let out = match self.estimate(tau, tracked, altitude) {
+            Some(est) => {
+                // Analytic landings rest at the launch altitude: a still image there is the
+                // ground.
+                let still = self.tracks.median_flow_norm_px() < STILL_FLOW_PX;
+                if let Some(td) = self.fit.touchdown_tau_s()
+                    && still
+                    && self.descent_height_m(tau).is_some_and(|h| h <= 0.0)
+                {
+                    return self.land(&input, td.min(tau), tau);
+                }
+                self.finish(est, &input, tau)
+            }
+            None => {
+                // The impact ends tracking (tumble, dust, ground too close): while descending
+                // near the ground, a vision breakdown is the touchdown.
+                if self
+                    .descent_height_m(tau)
+                    .is_some_and(|h| h <= self.config.touchdown_margin_m)
+                {
+                    let td = self.impact_tau_s(tau);
+                    return self.land(&input, td, tau);
+                }
+                self.propagate(&input, tau, tracked, altitude)
+            }
+        };
+        out
+    }
+
+    /// Fitted body height above the launch altitude at `tau`, when the fit is descending
+    /// (past the apex, after the first second with enough altimeter samples).
+    fn descent_height_m(&self, tau: f64) -> Option<f64> {
+        if tau <= 1.0 || self.fit.altitude_rows() < 10 {
+            return None;
+        }
+        let v0 = self.fit.solve()?;
+        if self.fit.velocity(&v0, tau).z >= 0.0 {
+            return None;
+        }
+        Some(self.fit.predict(&v0, tau).z - self.fit.launch_position_m().z)
+    }
+
+    /// Impact time for a vision breakdown seen at `tau`: the fit's return to the launch
+    /// altitude if it falls between the last good frame and this one, else the midpoint.
+    fn impact_tau_s(&self, tau: f64) -> f64 {
+        let last = self.last_tau_s;
+        match self.fit.touchdown_tau_s() {
+            Some(td) if td >= last && td <= tau => td,
+            _ => 0.5 * (last + tau),
         }
     }
 
@@ -348,6 +393,13 @@ impl JumperVo {
             self.keyframe.world_from_cam.rotation * rel.rotation.inverse(),
         );
         let body_rotation = world_from_cam.rotation * self.body_from_camera.rotation.inverse();
+        let dt_last_s = (tau - self.last_tau_s).max(1e-3);
+        let rate_radps = body_rotation.angle_to(&self.last_world_from_body.rotation) / dt_last_s;
+        if !(rate_radps <= self.config.max_angular_rate_radps) {
+            // Torque-free flight keeps its angular rate: a jump is a wrong two-view solution
+            // (planar twofold ambiguity) or an impact, never motion to integrate.
+            return None;
+        }
         let lever_kf = self.lever_world(
             &(self.keyframe.world_from_cam.rotation * self.body_from_camera.rotation.inverse()),
         );
@@ -600,14 +652,21 @@ impl JumperVo {
                     .iter()
                     .map(|p| cam.pixel_f32_to_normalized(*p)),
             );
+            let dt_s = (tau - self.last_tau_s).max(1e-3);
             if let Ok(est) = self.estimator.estimate(&self.x1, &self.x2, None) {
                 let rotation = self.keyframe.world_from_cam.rotation
                     * est.cam2_from_cam1.rotation.inverse()
                     * self.body_from_camera.rotation.inverse();
-                out.world_from_body.rotation = rotation;
-                out.inliers = est.num_inliers;
-                out.model = Some(est.model);
-                out.confidence = 0.5;
+                // Tumbling after the impact: vision rotations are not trusted; the body
+                // holds its position and the estimate its low confidence.
+                if rotation.angle_to(&self.last_world_from_body.rotation) / dt_s
+                    <= self.config.max_angular_rate_radps
+                {
+                    out.world_from_body.rotation = rotation;
+                    out.inliers = est.num_inliers;
+                    out.model = Some(est.model);
+                    out.confidence = 0.5;
+                }
             }
         } else {
             self.tracks.retain(&[]);
@@ -621,6 +680,9 @@ impl JumperVo {
         out
     }
 }
+
+/// Median track displacement below which the image counts as still, pixels per frame.
+const STILL_FLOW_PX: f32 = 0.3;
 
 #[derive(Debug, Clone, Copy)]
 struct Estimate {

@@ -48,8 +48,6 @@ pub fn jumper_vo_section(config: &HopnavConfig) -> Result<JumperVoConfig, Config
     Ok(section)
 }
 
-
-
 /// Runs the jumper VO once per frame.
 pub struct JumperVoProcess {
     config: JumperVoConfig,

@@ -270,7 +270,7 @@ impl JumperVo {
         if self.phase == Phase::Landed {
             return self.landed_frame(&input, tau, tracked);
         }
-        let out = match self.estimate(tau, tracked, altitude) {
+        match self.estimate(tau, tracked, altitude) {
             Some(est) => {
                 // Analytic landings rest at the launch altitude: a still image there is the
                 // ground.
@@ -295,8 +295,7 @@ impl JumperVo {
                 }
                 self.propagate(&input, tau, tracked, altitude)
             }
-        };
-        out
+        }
     }
 
     /// Fitted body height above the launch altitude at `tau`, when the fit is descending
@@ -395,7 +394,7 @@ impl JumperVo {
         let body_rotation = world_from_cam.rotation * self.body_from_camera.rotation.inverse();
         let dt_last_s = (tau - self.last_tau_s).max(1e-3);
         let rate_radps = body_rotation.angle_to(&self.last_world_from_body.rotation) / dt_last_s;
-        if !(rate_radps <= self.config.max_angular_rate_radps) {
+        if rate_radps.is_nan() || rate_radps > self.config.max_angular_rate_radps {
             // Torque-free flight keeps its angular rate: a jump is a wrong two-view solution
             // (planar twofold ambiguity) or an impact, never motion to integrate.
             return None;

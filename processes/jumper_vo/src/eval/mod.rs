@@ -4,6 +4,7 @@
 //! [`run_hop`] feeds a [`SimulatedHop`] frame by frame through [`JumperVo`] and times
 //! `process_frame`; [`evaluate`] computes the metrics.
 
+pub mod dataset;
 pub mod plot;
 
 pub use hopnav_metrics::trajectory::{align, errors as metrics, tum};

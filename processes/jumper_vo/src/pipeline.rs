@@ -86,6 +86,10 @@ pub struct JumperVo {
     /// World-frame body velocity (eq. 4 propagation).
     velocity_mps: Vector3<f64>,
     frame_dt_s: f64,
+    /// After touchdown: weighted sum and weight of the body altitude (the fit at impact as a
+    /// prior, then every altimeter sample): the held altitude is their mean.
+    landed_altitude_sum_m: f64,
+    landed_altitude_weight: f64,
 }
 
 impl JumperVo {
@@ -162,6 +166,8 @@ impl JumperVo {
             angular_velocity_radps: Vector3::zeros(),
             velocity_mps: Vector3::zeros(),
             frame_dt_s: 0.1,
+            landed_altitude_sum_m: 0.0,
+            landed_altitude_weight: 0.0,
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -622,6 +628,8 @@ impl JumperVo {
         };
         self.last_world_from_body = pose;
         self.last_tau_s = tau;
+        self.landed_altitude_weight = LANDING_PRIOR_WEIGHT;
+        self.landed_altitude_sum_m = LANDING_PRIOR_WEIGHT * position.z;
         self.velocity_mps = Vector3::zeros();
         self.angular_velocity_radps = Vector3::zeros();
         let mut out = self.output(input, VoStatus::Landed);
@@ -634,6 +642,14 @@ impl JumperVo {
     /// After touchdown: position held, rotation from vision when it works.
     fn landed_frame(&mut self, input: &FrameInput<'_>, tau: f64, tracked: usize) -> VoOutput {
         let mut out = self.output(input, VoStatus::Landed);
+        // On the ground the body altitude is constant: average the altimeter into it (the
+        // fit's impact altitude is biased by any error of the fitted launch velocity).
+        if let Some(z) = input.altimeter_m.filter(|z| z.is_finite()) {
+            self.landed_altitude_sum_m += z;
+            self.landed_altitude_weight += 1.0;
+            out.world_from_body.translation.z =
+                self.landed_altitude_sum_m / self.landed_altitude_weight;
+        }
         out.tracked_features = tracked;
         if tracked >= self.config.min_tracked_features {
             self.x1.clear();
@@ -679,6 +695,10 @@ impl JumperVo {
         out
     }
 }
+
+/// Weight of the fitted impact altitude against one altimeter sample after touchdown (the
+/// fit's altitude σ is about half the altimeter's).
+const LANDING_PRIOR_WEIGHT: f64 = 4.0;
 
 /// Median track displacement below which the image counts as still, pixels per frame.
 const STILL_FLOW_PX: f32 = 0.3;

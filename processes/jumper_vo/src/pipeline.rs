@@ -135,6 +135,10 @@ impl JumperVo {
         let mut tv = TwoViewConfig::for_camera(&camera);
         tv.sigma_px = config.pixel_sigma_px;
         tv.min_inliers = config.min_tracked_features;
+        // Frames that need more essential hypotheses than this have under ~45 % inliers (5-point,
+        // p = 0.999): near the landing and after starvation. They set the p99 frame time
+        // (500 hypotheses ≈ 8 ms) and the homography wins on the planar ground anyway.
+        tv.max_iterations = ESSENTIAL_MAX_HYPOTHESES;
         tv.solver = match config.essential_solver {
             SolverChoice::FivePoint => EssentialSolver::FivePoint,
             SolverChoice::EightPoint => EssentialSolver::EightPoint,
@@ -695,6 +699,9 @@ impl JumperVo {
         out
     }
 }
+
+/// Essential RANSAC hypotheses at most per frame (the vision default is 500).
+const ESSENTIAL_MAX_HYPOTHESES: usize = 200;
 
 /// Weight of the fitted impact altitude against one altimeter sample after touchdown (the
 /// fit's altitude σ is about half the altimeter's).

@@ -190,48 +190,25 @@ fn vo(args: &VoArgs) -> Result<(), String> {
 
 /// Evaluates the live `jumper_vo` estimate of a recorded launch against its ground truth.
 fn vo_dataset(dataset: &std::path::Path, out: &std::path::Path) -> Result<(), String> {
-    use hopnav_jumper_vo::eval::metrics::{ate, final_position_error_m, rpe, unaligned_rmse_m};
-    use hopnav_jumper_vo::eval::tum::read_tum;
-    let estimate = read_tum(&dataset.join("estimate_jumper_vo.tum")).map_err(|e| e.to_string())?;
-    let truth = read_tum(&dataset.join("groundtruth_jumper.tum")).map_err(|e| e.to_string())?;
-    // Pair by timestamp (both are stamped with the simulated time of the state/image).
-    let mut pairs = Vec::new();
-    for (t_s, pose) in &estimate {
-        if let Some((_, true_pose)) = truth
-            .iter()
-            .find(|(truth_t_s, _)| (truth_t_s - t_s).abs() < 1e-4)
-        {
-            pairs.push((*t_s, *pose, *true_pose));
-        }
-    }
-    if pairs.len() < 3 {
-        return Err(format!(
-            "{}: only {} estimate poses match ground-truth timestamps (need 3)",
-            dataset.display(),
-            pairs.len()
-        ));
-    }
-    let times: Vec<f64> = pairs.iter().map(|p| p.0).collect();
-    let est: Vec<_> = pairs.iter().map(|p| p.1).collect();
-    let gt: Vec<_> = pairs.iter().map(|p| p.2).collect();
-    let sim3 = ate(&est, &gt, true).ok_or("Sim(3) alignment failed")?;
-    let se3 = ate(&est, &gt, false).ok_or("SE(3) alignment failed")?;
-    let relative = rpe(&est, &gt, 1);
+    let report = hopnav_jumper_vo::eval::dataset::evaluate_dataset(dataset)
+        .map_err(|e| format!("{}: {e}", dataset.display()))?;
+    let (sim3, se3) = (&report.ate_sim3, &report.ate_se3);
+    let (times, est, gt) = (&report.times_s, &report.estimate, &report.truth);
     println!(
         "jumper_vo on {} ({} frames):",
         dataset.display(),
-        pairs.len()
+        report.frames()
     );
     println!(
         "  ATE Sim(3) {:.3} m (max {:.3} m)",
         sim3.rmse_m, sim3.max_m
     );
     println!("  ATE SE(3)  {:.3} m (max {:.3} m)", se3.rmse_m, se3.max_m);
-    println!("  unaligned RMSE {:.3} m", unaligned_rmse_m(&est, &gt));
-    if let Some(final_m) = final_position_error_m(&est, &gt) {
+    println!("  unaligned RMSE {:.3} m", report.unaligned_rmse_m);
+    if let Some(final_m) = report.final_error_m {
         println!("  final position error {final_m:.3} m");
     }
-    if let Some(relative) = relative {
+    if let Some(relative) = &report.rpe_frame {
         println!(
             "  RPE per frame {:.3} m, {:.2} deg",
             relative.translation_rmse_m,
@@ -240,7 +217,7 @@ fn vo_dataset(dataset: &std::path::Path, out: &std::path::Path) -> Result<(), St
     }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let png = out.join("dataset_fig5.png");
-    write_fig5_png(&png, &times, &gt, &est).map_err(|e| e.to_string())?;
+    write_fig5_png(&png, times, gt, est).map_err(|e| e.to_string())?;
     println!("wrote {}", png.display());
     Ok(())
 }

@@ -83,6 +83,17 @@ pub struct JumperVoConfig {
     pub pixel_sigma_px: f64,
     /// Triangulate and publish a world-frame cloud at keyframes.
     pub publish_cloud: bool,
+    /// Largest plausible body angular rate in flight, rad/s (torque-free flight keeps the
+    /// launch rate, 0.1 rad/s in Table 1). A vision rotation implying more is rejected
+    /// (propagated): a wrong homography/essential solution, or the tumble of an impact.
+    pub max_angular_rate_radps: f64,
+    /// Touchdown is declared at the first vision breakdown (no estimate, or a rejected
+    /// rotation) while descending with the fitted body altitude less than this above the
+    /// launch altitude, metres (the landing terrain need not be at the launch altitude).
+    pub touchdown_margin_m: f64,
+    /// Without a vision breakdown, touchdown is declared when the fit has descended this far
+    /// below the launch altitude, metres (or, with a static image, at the launch altitude).
+    pub touchdown_max_drop_m: f64,
 }
 
 impl Default for JumperVoConfig {
@@ -108,6 +119,9 @@ impl Default for JumperVoConfig {
             max_speed_mps: 20.0,
             pixel_sigma_px: 0.5,
             publish_cloud: true,
+            max_angular_rate_radps: 1.0,
+            touchdown_margin_m: 0.5,
+            touchdown_max_drop_m: 3.0,
         }
     }
 }
@@ -271,6 +285,27 @@ impl JumperVoConfig {
             0.05,
             10.0,
             "[0.05, 10]",
+        )?;
+        check(
+            "max_angular_rate_radps",
+            self.max_angular_rate_radps,
+            0.01,
+            100.0,
+            "[0.01, 100]",
+        )?;
+        check(
+            "touchdown_margin_m",
+            self.touchdown_margin_m,
+            0.0,
+            100.0,
+            "[0, 100]",
+        )?;
+        check(
+            "touchdown_max_drop_m",
+            self.touchdown_max_drop_m,
+            0.0,
+            1000.0,
+            "[0, 1000]",
         )?;
         Ok(())
     }

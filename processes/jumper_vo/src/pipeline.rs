@@ -86,6 +86,10 @@ pub struct JumperVo {
     /// World-frame body velocity (eq. 4 propagation).
     velocity_mps: Vector3<f64>,
     frame_dt_s: f64,
+    /// After touchdown: weighted sum and weight of the body altitude (the fit at impact as a
+    /// prior, then every altimeter sample): the held altitude is their mean.
+    landed_altitude_sum_m: f64,
+    landed_altitude_weight: f64,
 }
 
 impl JumperVo {
@@ -131,6 +135,10 @@ impl JumperVo {
         let mut tv = TwoViewConfig::for_camera(&camera);
         tv.sigma_px = config.pixel_sigma_px;
         tv.min_inliers = config.min_tracked_features;
+        // Frames that need more essential hypotheses than this have under ~45 % inliers (5-point,
+        // p = 0.999): near the landing and after starvation. They set the p99 frame time
+        // (500 hypotheses ≈ 8 ms) and the homography wins on the planar ground anyway.
+        tv.max_iterations = ESSENTIAL_MAX_HYPOTHESES;
         tv.solver = match config.essential_solver {
             SolverChoice::FivePoint => EssentialSolver::FivePoint,
             SolverChoice::EightPoint => EssentialSolver::EightPoint,
@@ -162,6 +170,8 @@ impl JumperVo {
             angular_velocity_radps: Vector3::zeros(),
             velocity_mps: Vector3::zeros(),
             frame_dt_s: 0.1,
+            landed_altitude_sum_m: 0.0,
+            landed_altitude_weight: 0.0,
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -259,12 +269,11 @@ impl JumperVo {
             if let Some(z) = altitude {
                 self.fit.add_altitude(tau, z, self.config.altimeter_sigma_m);
             }
-            if let Some(td) = self.fit.touchdown_tau_s()
-                && tau > 1.0
-                && self.fit.altitude_rows() >= 10
-                && tau >= td
+            if self
+                .descent_height_m(tau)
+                .is_some_and(|h| h <= -self.config.touchdown_max_drop_m)
             {
-                return self.land(&input, td, tau);
+                return self.land(&input, tau, tau);
             }
         }
         let tracked = self.tracks.track(&input.image).unwrap_or(0);
@@ -272,8 +281,53 @@ impl JumperVo {
             return self.landed_frame(&input, tau, tracked);
         }
         match self.estimate(tau, tracked, altitude) {
-            Some(out) => self.finish(out, &input, tau),
-            None => self.propagate(&input, tau, tracked, altitude),
+            Some(est) => {
+                // Analytic landings rest at the launch altitude: a still image there is the
+                // ground.
+                let still = self.tracks.median_flow_norm_px() < STILL_FLOW_PX;
+                if let Some(td) = self.fit.touchdown_tau_s()
+                    && still
+                    && self.descent_height_m(tau).is_some_and(|h| h <= 0.0)
+                {
+                    return self.land(&input, td.min(tau), tau);
+                }
+                self.finish(est, &input, tau)
+            }
+            None => {
+                // The impact ends tracking (tumble, dust, ground too close): while descending
+                // near the ground, a vision breakdown is the touchdown.
+                if self
+                    .descent_height_m(tau)
+                    .is_some_and(|h| h <= self.config.touchdown_margin_m)
+                {
+                    let td = self.impact_tau_s(tau);
+                    return self.land(&input, td, tau);
+                }
+                self.propagate(&input, tau, tracked, altitude)
+            }
+        }
+    }
+
+    /// Fitted body height above the launch altitude at `tau`, when the fit is descending
+    /// (past the apex, after the first second with enough altimeter samples).
+    fn descent_height_m(&self, tau: f64) -> Option<f64> {
+        if tau <= 1.0 || self.fit.altitude_rows() < 10 {
+            return None;
+        }
+        let v0 = self.fit.solve()?;
+        if self.fit.velocity(&v0, tau).z >= 0.0 {
+            return None;
+        }
+        Some(self.fit.predict(&v0, tau).z - self.fit.launch_position_m().z)
+    }
+
+    /// Impact time for a vision breakdown seen at `tau`: the fit's return to the launch
+    /// altitude if it falls between the last good frame and this one, else the midpoint.
+    fn impact_tau_s(&self, tau: f64) -> f64 {
+        let last = self.last_tau_s;
+        match self.fit.touchdown_tau_s() {
+            Some(td) if td >= last && td <= tau => td,
+            _ => 0.5 * (last + tau),
         }
     }
 
@@ -348,6 +402,13 @@ impl JumperVo {
             self.keyframe.world_from_cam.rotation * rel.rotation.inverse(),
         );
         let body_rotation = world_from_cam.rotation * self.body_from_camera.rotation.inverse();
+        let dt_last_s = (tau - self.last_tau_s).max(1e-3);
+        let rate_radps = body_rotation.angle_to(&self.last_world_from_body.rotation) / dt_last_s;
+        if rate_radps.is_nan() || rate_radps > self.config.max_angular_rate_radps {
+            // Torque-free flight keeps its angular rate: a jump is a wrong two-view solution
+            // (planar twofold ambiguity) or an impact, never motion to integrate.
+            return None;
+        }
         let lever_kf = self.lever_world(
             &(self.keyframe.world_from_cam.rotation * self.body_from_camera.rotation.inverse()),
         );
@@ -571,6 +632,8 @@ impl JumperVo {
         };
         self.last_world_from_body = pose;
         self.last_tau_s = tau;
+        self.landed_altitude_weight = LANDING_PRIOR_WEIGHT;
+        self.landed_altitude_sum_m = LANDING_PRIOR_WEIGHT * position.z;
         self.velocity_mps = Vector3::zeros();
         self.angular_velocity_radps = Vector3::zeros();
         let mut out = self.output(input, VoStatus::Landed);
@@ -583,6 +646,14 @@ impl JumperVo {
     /// After touchdown: position held, rotation from vision when it works.
     fn landed_frame(&mut self, input: &FrameInput<'_>, tau: f64, tracked: usize) -> VoOutput {
         let mut out = self.output(input, VoStatus::Landed);
+        // On the ground the body altitude is constant: average the altimeter into it (the
+        // fit's impact altitude is biased by any error of the fitted launch velocity).
+        if let Some(z) = input.altimeter_m.filter(|z| z.is_finite()) {
+            self.landed_altitude_sum_m += z;
+            self.landed_altitude_weight += 1.0;
+            out.world_from_body.translation.z =
+                self.landed_altitude_sum_m / self.landed_altitude_weight;
+        }
         out.tracked_features = tracked;
         if tracked >= self.config.min_tracked_features {
             self.x1.clear();
@@ -600,14 +671,21 @@ impl JumperVo {
                     .iter()
                     .map(|p| cam.pixel_f32_to_normalized(*p)),
             );
+            let dt_s = (tau - self.last_tau_s).max(1e-3);
             if let Ok(est) = self.estimator.estimate(&self.x1, &self.x2, None) {
                 let rotation = self.keyframe.world_from_cam.rotation
                     * est.cam2_from_cam1.rotation.inverse()
                     * self.body_from_camera.rotation.inverse();
-                out.world_from_body.rotation = rotation;
-                out.inliers = est.num_inliers;
-                out.model = Some(est.model);
-                out.confidence = 0.5;
+                // Tumbling after the impact: vision rotations are not trusted; the body
+                // holds its position and the estimate its low confidence.
+                if rotation.angle_to(&self.last_world_from_body.rotation) / dt_s
+                    <= self.config.max_angular_rate_radps
+                {
+                    out.world_from_body.rotation = rotation;
+                    out.inliers = est.num_inliers;
+                    out.model = Some(est.model);
+                    out.confidence = 0.5;
+                }
             }
         } else {
             self.tracks.retain(&[]);
@@ -621,6 +699,16 @@ impl JumperVo {
         out
     }
 }
+
+/// Essential RANSAC hypotheses at most per frame (the vision default is 500).
+const ESSENTIAL_MAX_HYPOTHESES: usize = 200;
+
+/// Weight of the fitted impact altitude against one altimeter sample after touchdown (the
+/// fit's altitude σ is about half the altimeter's).
+const LANDING_PRIOR_WEIGHT: f64 = 4.0;
+
+/// Median track displacement below which the image counts as still, pixels per frame.
+const STILL_FLOW_PX: f32 = 0.3;
 
 #[derive(Debug, Clone, Copy)]
 struct Estimate {

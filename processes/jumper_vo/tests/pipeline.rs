@@ -86,6 +86,34 @@ fn black_frames_mid_flight_do_not_diverge() {
     }
 }
 
+/// A vision breakdown at the impact (black frames from just before touchdown)
+/// must land the jumper near the touchdown point and hold it there, not keep propagating the
+/// ballistic arc under the ground.
+#[test]
+fn breakdown_at_touchdown_lands_and_holds() {
+    let sim = small_sim(52, (45..52).collect());
+    let run = run_hop(&sim, &JumperVoConfig::default()).unwrap();
+    let first_landed = run
+        .outputs
+        .iter()
+        .position(|o| o.status == VoStatus::Landed)
+        .expect("a landing");
+    assert!(
+        (46..=48).contains(&first_landed),
+        "landed at {first_landed}"
+    );
+    let launch_z = sim.truth_world_from_body[0].translation.z;
+    for (o, g) in run.outputs[first_landed..]
+        .iter()
+        .zip(&sim.truth_world_from_body[first_landed..])
+    {
+        let err = (o.world_from_body.translation.vector - g.translation.vector).norm();
+        assert!(err < 1.5, "frame {} error {err}", o.frame_index);
+        assert!(o.world_from_body.translation.z > launch_z - 1.0);
+        assert!(o.confidence <= 0.5);
+    }
+}
+
 #[test]
 fn hostile_input_never_panics() {
     let sim = small_sim(3, Vec::new());

@@ -252,6 +252,27 @@ impl KltTracker {
         status: &mut [TrackStatus],
         use_initial_guess: bool,
     ) -> Result<TrackStats, KltError> {
+        self.track_with_levels(prev, next, prev_px, next_px, status, use_initial_guess, &[])
+    }
+
+    /// Like [`Self::track`], with a per-point number of pyramid levels: point `i` is refined on
+    /// levels `top_levels[i] − 1 … 0` only (clamped to `1..=` the usable levels). Points past
+    /// the end of `top_levels` use every level.
+    ///
+    /// A good initial guess (e.g. a track's constant-velocity prediction) needs no coarse
+    /// search: 2 levels instead of 4 halve the cost. Points with a poor guess (new corners)
+    /// should keep every level.
+    #[allow(clippy::too_many_arguments)]
+    pub fn track_with_levels(
+        &mut self,
+        prev: &Pyramid,
+        next: &Pyramid,
+        prev_px: &[Point2<f32>],
+        next_px: &mut [Point2<f32>],
+        status: &mut [TrackStatus],
+        use_initial_guess: bool,
+        top_levels: &[u8],
+    ) -> Result<TrackStats, KltError> {
         if prev_px.len() != next_px.len() || prev_px.len() != status.len() {
             return Err(KltError::LengthMismatch {
                 prev: prev_px.len(),
@@ -308,7 +329,10 @@ impl KltTracker {
             let i = self.order[k] as usize;
             let p = prev_px[i];
             let guess = self.guesses[i];
-            let (mut q, mut st) = self.track_point(prev, next, p, guess, true);
+            let max_levels = top_levels
+                .get(i)
+                .map_or(usize::MAX, |&l| usize::from(l).max(1));
+            let (mut q, mut st) = self.track_point(prev, next, p, guess, true, max_levels);
             if st == TrackStatus::Tracked
                 && let Some(limit) = self.config.forward_backward_max_px
             {
@@ -316,7 +340,8 @@ impl KltTracker {
                 // (Seeding it at the start point over two levels, as VINS-Fusion does, is
                 // cheaper but measured weak here: occluded tracks 40 px off were kept.)
                 let back_guess = q - (guess - p);
-                let (back, back_status) = self.track_point(next, prev, q, back_guess, false);
+                let (back, back_status) =
+                    self.track_point(next, prev, q, back_guess, false, max_levels);
                 if back_status == TrackStatus::Tracked {
                     let err = (back - p).norm();
                     self.fb_errors_px[i] = err;
@@ -352,6 +377,7 @@ impl KltTracker {
         p0: Point2<f32>,
         guess: Point2<f32>,
         check_residual: bool,
+        max_levels: usize,
     ) -> (Point2<f32>, TrackStatus) {
         if !(p0.x.is_finite() && p0.y.is_finite() && guess.x.is_finite() && guess.y.is_finite()) {
             return (p0, TrackStatus::InvalidInput);
@@ -366,6 +392,7 @@ impl KltTracker {
                     .is_some_and(|lv| lv.width().min(lv.height()) >= min_level_size)
             })
             .count()
+            .min(max_levels)
             .max(1);
         let top_scale = 1.0 / (1u32 << (levels - 1)) as f32;
         let mut d = (guess - p0) * top_scale;
@@ -459,10 +486,11 @@ impl KltTracker {
             if !window_fits(&lt.image, q, r) {
                 return TrackStatus::OutOfBounds;
             }
-            sample_window(&lt.image, q, r, &mut self.window);
-            let (bx, by) = mismatch(
+            let (bx, by) = sampled_mismatch(
+                &lt.image,
+                q,
+                r,
                 &self.template,
-                &self.window,
                 &self.template_gx,
                 &self.template_gy,
             );
@@ -499,11 +527,19 @@ fn window_fits(plane: &PaddedPlane, p: Point2<f32>, r: usize) -> bool {
         && p.y < plane.height() as f32 + pad - r - 2.0
 }
 
+/// `floor(v)` for `v` inside a padded plane (`v > -FLOOR_OFFSET`), without a libm call (the
+/// baseline x86-64 target has no `roundss`).
+#[inline]
+fn fast_floor(v: f32) -> f32 {
+    const FLOOR_OFFSET: f32 = 4096.0;
+    ((v + FLOOR_OFFSET) as i32) as f32 - FLOOR_OFFSET
+}
+
 /// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]).
 fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32]) {
     let n = 2 * r + 1;
-    let fx = p.x.floor();
-    let fy = p.y.floor();
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
     let (a, b) = (p.x - fx, p.y - fy);
     let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
     let x0 = fx as isize - r as isize;
@@ -524,6 +560,49 @@ fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32])
             *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
         }
     }
+}
+
+/// `(Σ (I − J) gx, Σ (I − J) gy)` with `J` the bilinear `(2r+1)²` window of `plane` at `p`
+/// (caller checked [`window_fits`]): [`sample_window`] and [`mismatch`] in one pass, without
+/// writing the window.
+fn sampled_mismatch(
+    plane: &PaddedPlane,
+    p: Point2<f32>,
+    r: usize,
+    template: &[f32],
+    gx: &[f32],
+    gy: &[f32],
+) -> (f32, f32) {
+    let n = 2 * r + 1;
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
+    let (a, b) = (p.x - fx, p.y - fy);
+    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
+    let x0 = fx as isize - r as isize;
+    let y0 = fy as isize - r as isize;
+    let stride = plane.stride();
+    let data = plane.data();
+    let (mut sx, mut sy) = (0.0f32, 0.0f32);
+    for (k, ((t_row, x_row), y_row)) in template
+        .chunks_exact(n)
+        .zip(gx.chunks_exact(n))
+        .zip(gy.chunks_exact(n))
+        .enumerate()
+    {
+        let i0 = plane.index(x0, y0 + k as isize);
+        let row0 = &data[i0..i0 + n + 1];
+        let row1 = &data[i0 + stride..i0 + stride + n + 1];
+        let (mut rx, mut ry) = (0.0f32, 0.0f32);
+        for c in 0..n {
+            let j = w00 * row0[c] + w01 * row0[c + 1] + w10 * row1[c] + w11 * row1[c + 1];
+            let diff = t_row[c] - j;
+            rx += diff * x_row[c];
+            ry += diff * y_row[c];
+        }
+        sx += rx;
+        sy += ry;
+    }
+    (sx, sy)
 }
 
 /// Splits a `(n+2)²` window into the inner `n²` template and its central-difference gradients.
@@ -574,7 +653,8 @@ fn structure_tensor(gx: &[f32], gy: &[f32]) -> (f32, f32, f32) {
     s
 }
 
-/// `(Σ (I − J) gx, Σ (I − J) gy)`.
+/// `(Σ (I − J) gx, Σ (I − J) gy)` of a sampled window (the reference of [`sampled_mismatch`]).
+#[cfg(test)]
 fn mismatch(template: &[f32], window: &[f32], gx: &[f32], gy: &[f32]) -> (f32, f32) {
     let (mut sx, mut sy) = ([0.0f32; 8], [0.0f32; 8]);
     let (ct, cw, cx, cy) = (
@@ -666,6 +746,33 @@ mod tests {
 
     fn rms(v: &[f32]) -> f32 {
         (v.iter().map(|e| e * e).sum::<f32>() / v.len() as f32).sqrt()
+    }
+
+    #[test]
+    fn fused_mismatch_matches_sample_then_mismatch() {
+        let tex = BlobTexture::random(W, H, 350, 21);
+        let (pyr, _) = pyramid_of(&tex, &AffineWarp::identity());
+        let plane = &pyr.level(0).unwrap().image;
+        let r = 5;
+        let n = 2 * r + 1;
+        let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
+        let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
+        let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
+        for p in [
+            Point2::new(40.3f32, 50.7),
+            Point2::new(-3.5, 7.25),
+            Point2::new(9.0, 9.0),
+        ] {
+            let mut window = vec![0.0; n * n];
+            sample_window(plane, p, r, &mut window);
+            let (ax, ay) = mismatch(&template, &window, &gx, &gy);
+            let (bx, by) = sampled_mismatch(plane, p, r, &template, &gx, &gy);
+            assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
+            assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
+        }
+        assert_eq!(fast_floor(-3.5), -4.0);
+        assert_eq!(fast_floor(2.0), 2.0);
+        assert_eq!(fast_floor(2.99), 2.0);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! [`run_hop`] feeds a [`SimulatedHop`] frame by frame through [`JumperVo`] and times
 //! `process_frame`; [`evaluate`] computes the metrics.
 
+pub mod dataset;
 pub mod plot;
 
 pub use hopnav_metrics::trajectory::{align, errors as metrics, tum};
@@ -23,6 +24,21 @@ pub struct HopRun {
     pub outputs: Vec<VoOutput>,
     /// Wall time of each `process_frame` call, microseconds.
     pub frame_time_us: Vec<f64>,
+    /// CPU time of the calling thread in each `process_frame` call, microseconds (NaN where
+    /// the clock is unavailable): unlike wall time, not inflated by other processes.
+    pub frame_cpu_us: Vec<f64>,
+}
+
+/// CPU time consumed by the calling thread, seconds; `None` if the clock is unavailable.
+pub fn thread_cpu_time_s() -> Option<f64> {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec for the duration of the call, and
+    // CLOCK_THREAD_CPUTIME_ID is a clock id every supported (POSIX) target defines.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    (rc == 0).then_some(ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9)
 }
 
 impl HopRun {
@@ -43,6 +59,7 @@ pub fn run_hop(hop: &SimulatedHop, config: &JumperVoConfig) -> Result<HopRun, Vo
     let mut run = HopRun {
         outputs: Vec::with_capacity(hop.images.len()),
         frame_time_us: Vec::with_capacity(hop.images.len()),
+        frame_cpu_us: Vec::with_capacity(hop.images.len()),
     };
     for (k, image) in hop.images.iter().enumerate() {
         let Ok(view) = ImageView::packed(image, hop.width_px, hop.height_px) else {
@@ -54,9 +71,15 @@ pub fn run_hop(hop: &SimulatedHop, config: &JumperVoConfig) -> Result<HopRun, Vo
             image: view,
             altimeter_m: hop.altimeter_m.get(k).copied(),
         };
+        let cpu_start = thread_cpu_time_s();
         let start = Instant::now();
         let out = vo.process_frame(input);
         run.frame_time_us.push(start.elapsed().as_secs_f64() * 1e6);
+        let cpu_us = match (cpu_start, thread_cpu_time_s()) {
+            (Some(a), Some(b)) => (b - a) * 1e6,
+            _ => f64::NAN,
+        };
+        run.frame_cpu_us.push(cpu_us);
         run.outputs.push(out);
     }
     Ok(run)

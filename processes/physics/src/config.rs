@@ -141,6 +141,11 @@ pub struct JumperConfig {
     pub settle_frames: u32,
     /// After landing, the jumper counts as settled after this long even if still moving, seconds.
     pub settle_timeout_s: f64,
+    /// Linear damping while landing, 1/s: the landing cage absorbs the impact, so the body
+    /// stops within a metre or so instead of rolling on (0 = a bare cube that rolls for metres).
+    pub landing_linear_damping_per_s: f64,
+    /// Angular damping while landing, 1/s.
+    pub landing_angular_damping_per_s: f64,
 }
 
 impl Default for JumperConfig {
@@ -165,6 +170,8 @@ impl Default for JumperConfig {
             settle_angular_speed_radps: 0.1,
             settle_frames: 5,
             settle_timeout_s: 20.0,
+            landing_linear_damping_per_s: 8.0,
+            landing_angular_damping_per_s: 12.0,
         }
     }
 }
@@ -247,6 +254,16 @@ impl JumperConfig {
             "settle_timeout_s",
             self.settle_timeout_s,
             Range::left_open(0.0, 3600.0),
+        )?;
+        k.real(
+            "landing_linear_damping_per_s",
+            self.landing_linear_damping_per_s,
+            Range::closed(0.0, 1000.0),
+        )?;
+        k.real(
+            "landing_angular_damping_per_s",
+            self.landing_angular_damping_per_s,
+            Range::closed(0.0, 1000.0),
         )
     }
 }

@@ -171,6 +171,13 @@ impl Jumper {
         terrain: &Heightfield,
         gravity_mps2: f64,
     ) {
+        if self.state == HopState::Landing
+            && let Some(rb) = pw.bodies.get_mut(self.body)
+        {
+            // The landing cage soaks up the impact: the body stops near where it came down.
+            rb.set_linear_damping(cfg.landing_linear_damping_per_s as f32);
+            rb.set_angular_damping(cfg.landing_angular_damping_per_s as f32);
+        }
         if self.state != HopState::Settled {
             return;
         }
@@ -235,6 +242,8 @@ impl Jumper {
         );
         rb.set_linvel(to_f32(linvel), true);
         rb.set_angvel(to_f32(angvel), true);
+        rb.set_linear_damping(0.0);
+        rb.set_angular_damping(0.0);
         rb.reset_forces(true);
         rb.reset_torques(true);
         self.hop_count += 1;

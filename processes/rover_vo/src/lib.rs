@@ -1,2 +1,8 @@
-//! Rover stereo visual odometry (work in progress).
+//! Rover stereo visual odometry (issue #5) as plain library modules, without IPC:
+//! sparse stereo matching, KLT tracking, 2-point (IMU roll/pitch) or 3-point RANSAC motion with
+//! Gauss–Newton refinement of the reprojection error, keyframes, and world-frame feature
+//! clouds with heights above the local ground. [`process`] wraps it as the `rover_vo` process.
 #![warn(missing_docs)]
+
+pub mod config;
+pub mod stereo;

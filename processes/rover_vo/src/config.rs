@@ -49,8 +49,8 @@ pub struct RoverVoConfig {
     pub use_imu_tilt: bool,
     /// Radius of the neighbourhood that defines a point's local ground, metres.
     pub ground_radius_m: f64,
-    /// Percentile (0–1) of the neighbours' heights taken as the local ground.
-    pub ground_percentile: f64,
+    /// Share of the lowest residuals kept by the robust ground-plane fits (rocks stand above).
+    pub ground_keep_fraction: f64,
     /// World z of the ground under the rover at the start, metres (the VO measures its height
     /// above the ground from the first stereo frame).
     pub start_ground_z_m: f64,
@@ -80,7 +80,7 @@ impl Default for RoverVoConfig {
             reprojection_threshold_px: 2.0,
             use_imu_tilt: true,
             ground_radius_m: 2.0,
-            ground_percentile: 0.2,
+            ground_keep_fraction: 0.6,
             start_ground_z_m: 0.0,
             start_xy_m: None,
             publish_cloud: true,
@@ -134,7 +134,7 @@ impl RoverVoConfig {
         real("max_depth_m", self.max_depth_m, 1.0, 1000.0, "[1, 1000]")?;
         real("reprojection_threshold_px", self.reprojection_threshold_px, 0.1, 20.0, "[0.1, 20]")?;
         real("ground_radius_m", self.ground_radius_m, 0.1, 50.0, "[0.1, 50]")?;
-        real("ground_percentile", self.ground_percentile, 0.0, 0.5, "[0, 0.5]")?;
+        real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0, "[0.2, 1]")?;
         real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4, "[-10000, 10000]")?;
         if let Some([x, y]) = self.start_xy_m {
             real("start_xy_m", x, -1e5, 1e5, "finite, |x|,|y| <= 100000")?;

@@ -5,5 +5,9 @@
 #![warn(missing_docs)]
 
 pub mod config;
+pub mod eval;
+pub mod ground;
 pub mod motion;
+pub mod pipeline;
+pub mod simulate;
 pub mod stereo;

@@ -166,7 +166,7 @@ impl RansacProblem for Problem<'_> {
             }
             let yaw = dx.y.atan2(dx.x) - da.y.atan2(da.x);
             let rotation = tilt.with_yaw(yaw);
-            let t = 0.5 * ((x0.coords - rotation * a0.coords) + (x1.coords - rotation * a1.coords));
+            let t = 0.5 * ((x0.coords - rotation * b0.coords) + (x1.coords - rotation * b1.coords));
             models.push(Isometry3::from_parts(Translation3::from(t), rotation));
         } else {
             let mut body = [Point3::origin(); 3];

@@ -82,9 +82,30 @@ pub enum VoStatus {
     Propagated,
 }
 
+/// Why a frame's vision estimate was not used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rejection {
+    /// The left image could not be processed.
+    BadImage,
+    /// No map yet (start, or after a loss).
+    NoMap,
+    /// Too few tracked features.
+    TooFewTracks,
+    /// RANSAC failed.
+    Motion(crate::motion::MotionError),
+    /// Too few inliers.
+    FewInliers,
+    /// Too small an inlier share of the tracks.
+    LowInlierRatio,
+    /// The estimated step is implausibly large.
+    ImplausibleStep,
+}
+
 /// Result of one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VoOutput {
+    /// Why the vision estimate was not used (`None`: it was).
+    pub rejection: Option<Rejection>,
     /// Estimated pose.
     pub world_from_body: Isometry3<f64>,
     /// 0–1; below 0.5 the pose is propagated.
@@ -295,29 +316,40 @@ impl RoverVo {
         let held = Isometry3::from_parts(self.world_from_body.translation, predicted.rotation);
 
         if self.pyr_cur.build(&frame.left).is_err() {
-            return self.propagate(held, 0);
+            let mut out = self.propagate(held, 0);
+            out.rejection = Some(Rejection::BadImage);
+            return out;
         }
         let tracked = self.track(&predicted);
         self.stereo_tracks(frame);
-        let estimate = if self.corrs.len() >= self.config.min_inliers {
+        let estimate = if self.track_px.is_empty() {
+            Err(Rejection::NoMap)
+        } else if self.corrs.len() < self.config.min_inliers {
+            Err(Rejection::TooFewTracks)
+        } else {
             self.motion
                 .estimate(&self.corrs, &self.rig.body_from_camera, &self.rig.intrinsics, tilt)
-                .ok()
-        } else {
-            None
+                .map_err(Rejection::Motion)
         };
-        let accepted = estimate.filter(|m| {
+        let accepted = estimate.and_then(|m| {
             let step_m = (m.world_from_body.translation.vector - self.world_from_body.translation.vector).norm();
-            m.inliers >= self.config.min_inliers
-                && m.inliers as f64 >= self.config.min_inlier_ratio * tracked as f64
-                && step_m < 2.0
+            if m.inliers < self.config.min_inliers {
+                Err(Rejection::FewInliers)
+            } else if (m.inliers as f64) < self.config.min_inlier_ratio * tracked as f64 {
+                Err(Rejection::LowInlierRatio)
+            } else if step_m >= 2.0 {
+                Err(Rejection::ImplausibleStep)
+            } else {
+                Ok(m)
+            }
         });
         let mut output = match accepted {
-            Some(m) => {
+            Ok(m) => {
                 self.last_motion = self.world_from_body.inverse() * m.world_from_body;
                 self.world_from_body = m.world_from_body;
                 self.keep_inliers();
                 VoOutput {
+                    rejection: None,
                     world_from_body: m.world_from_body,
                     confidence: (0.5 + 0.5 * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
                         .min(1.0),
@@ -327,13 +359,14 @@ impl RoverVo {
                     is_keyframe: false,
                 }
             }
-            None => {
+            Err(rejection) => {
                 // Lost (or never had a map): drop the map, hold the position.
                 let had_map = !self.track_px.is_empty();
                 self.clear_tracks();
                 self.world_from_body = held;
                 self.last_motion = Isometry3::identity();
                 let mut out = self.propagate(held, tracked);
+                out.rejection = Some(rejection);
                 out.status = if had_map { VoStatus::Propagated } else { out.status };
                 out
             }
@@ -367,6 +400,7 @@ impl RoverVo {
     fn propagate(&mut self, held: Isometry3<f64>, tracked: usize) -> VoOutput {
         self.world_from_body = held;
         VoOutput {
+            rejection: None,
             world_from_body: held,
             confidence: 0.2,
             status: VoStatus::Propagated,

@@ -44,9 +44,12 @@ pub struct RoverVoConfig {
     pub max_depth_m: f64,
     /// RANSAC inlier threshold on the reprojection error, pixels.
     pub reprojection_threshold_px: f64,
-    /// Use the IMU roll and pitch (4-DOF motion: yaw and translation; the 2-point stereo
-    /// solver). Otherwise a 6-DOF 3-point solver.
+    /// Use the IMU roll and pitch: 2-point stereo RANSAC hypotheses (yaw and translation) and
+    /// a roll/pitch prior in the refinement. Otherwise 3-point hypotheses and a free 6-DOF fit.
     pub use_imu_tilt: bool,
+    /// σ of the IMU roll/pitch prior in the 6-DOF refinement, radians; 0 fixes roll and pitch
+    /// to the IMU's (4-DOF refinement).
+    pub imu_tilt_sigma_rad: f64,
     /// Radius of the neighbourhood that defines a point's local ground, metres.
     pub ground_radius_m: f64,
     /// Share of the lowest residuals kept by the robust ground-plane fits (rocks stand above).
@@ -79,6 +82,7 @@ impl Default for RoverVoConfig {
             max_depth_m: 30.0,
             reprojection_threshold_px: 2.0,
             use_imu_tilt: true,
+            imu_tilt_sigma_rad: 0.002,
             ground_radius_m: 2.0,
             ground_keep_fraction: 0.6,
             start_ground_z_m: 0.0,
@@ -133,6 +137,7 @@ impl RoverVoConfig {
         real("disparity_sigma_px", self.disparity_sigma_px, 0.01, 5.0, "[0.01, 5]")?;
         real("max_depth_m", self.max_depth_m, 1.0, 1000.0, "[1, 1000]")?;
         real("reprojection_threshold_px", self.reprojection_threshold_px, 0.1, 20.0, "[0.1, 20]")?;
+        real("imu_tilt_sigma_rad", self.imu_tilt_sigma_rad, 0.0, 1.0, "[0, 1]")?;
         real("ground_radius_m", self.ground_radius_m, 0.1, 50.0, "[0.1, 50]")?;
         real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0, "[0.2, 1]")?;
         real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4, "[-10000, 10000]")?;

@@ -12,6 +12,7 @@
 //! `R ← exp(δω)·R`, `t ← t + δt` (a perturbation about world z keeps roll and pitch).
 
 use hopnav_vision::ransac::{Ransac, RansacConfig, RansacProblem};
+use std::ops::AddAssign;
 use nalgebra::{
     Isometry3, Matrix3, Matrix6, Point2, Point3, Rotation3, SMatrix, SVector, Translation3,
     UnitQuaternion, Vector3, Vector6,
@@ -49,6 +50,10 @@ impl Intrinsics {
 pub struct Tilt {
     /// `Ry(pitch) · Rx(roll)`.
     pub leveling: UnitQuaternion<f64>,
+    /// How refinement uses it: `None` keeps roll and pitch fixed (4 DOF); `Some(σ)` refines
+    /// 6 DOF with a prior of σ radians on the gravity direction in the body frame, in units
+    /// of the pixel error scale `σ_px = 0.5 px`.
+    pub prior_sigma_rad: Option<f64>,
 }
 
 impl Tilt {
@@ -57,6 +62,7 @@ impl Tilt {
         let (roll, pitch, _) = world_from_body.euler_angles();
         Self {
             leveling: UnitQuaternion::from_euler_angles(roll, pitch, 0.0),
+            prior_sigma_rad: None,
         }
     }
 
@@ -275,7 +281,7 @@ impl MotionEstimator {
                 return Err(MotionError::NoModel);
             }
             let (refined, rms) =
-                refine(data, &self.inliers, pose, body_from_camera, intrinsics, tilt.is_some(), 6);
+                refine(data, &self.inliers, pose, body_from_camera, intrinsics, tilt, 6);
             pose = refined;
             rms_px = rms;
         }
@@ -310,16 +316,24 @@ impl MotionEstimator {
 }
 
 /// Gauss–Newton with Huber weights (1 px) on the reprojection error of `inliers`.
-/// `four_dof`: only yaw about world z and translation change. Returns the pose and RMS error.
+/// With a [`Tilt`] without prior σ only yaw about world z and translation change; with a σ the
+/// refinement is 6-DOF with a gravity-direction prior; without a tilt it is 6-DOF.
+/// Returns the pose and the RMS reprojection error.
 pub fn refine(
     data: &[Correspondence],
     inliers: &[usize],
     mut pose: Isometry3<f64>,
     body_from_camera: &Isometry3<f64>,
     intrinsics: &Intrinsics,
-    four_dof: bool,
+    tilt: Option<Tilt>,
     iterations: usize,
 ) -> (Isometry3<f64>, f64) {
+    let four_dof = matches!(tilt, Some(Tilt { prior_sigma_rad: None, .. }));
+    let prior = tilt.and_then(|t| {
+        t.prior_sigma_rad
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .map(|s| ((0.5 / s).powi(2), t.leveling.inverse() * Vector3::z()))
+    });
     let huber_px = 1.0;
     let camera_from_body = body_from_camera.inverse();
     let mut rms = f64::NAN;
@@ -367,6 +381,16 @@ pub fn refine(
             break;
         }
         rms = (sum_sq / n as f64).sqrt();
+        if let Some((weight, gravity_body)) = prior {
+            // e = Rᵀẑ − g_imu; ∂e/∂δω = Rᵀ[ẑ]ₓ.
+            let e = r_t * Vector3::z() - gravity_body;
+            let j = r_t * Vector3::z().cross_matrix();
+            h.fixed_view_mut::<3, 3>(0, 0).add_assign(&(weight * j.transpose() * j));
+            let gr = weight * j.transpose() * e;
+            for k in 0..3 {
+                g[k] += gr[k];
+            }
+        }
         let step: Vector6<f64> = if four_dof {
             let idx = [2usize, 3, 4, 5];
             let mut h4 = SMatrix::<f64, 4, 4>::zeros();
@@ -451,7 +475,8 @@ mod tests {
     fn recovers_pose_with_outliers_in_6dof_and_4dof() {
         let (data, truth, k) = scene(0.3, 3);
         let mut est = MotionEstimator::new(2.0, 256);
-        for tilt in [None, Some(Tilt::from_attitude(&truth.rotation))] {
+        let with_prior = Tilt { prior_sigma_rad: Some(0.002), ..Tilt::from_attitude(&truth.rotation) };
+        for tilt in [None, Some(Tilt::from_attitude(&truth.rotation)), Some(with_prior)] {
             let m = est.estimate(&data, &mount(), &k, tilt).unwrap();
             let dt = (m.world_from_body.translation.vector - truth.translation.vector).norm();
             let dr = m.world_from_body.rotation.angle_to(&truth.rotation);

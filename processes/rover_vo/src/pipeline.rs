@@ -309,7 +309,11 @@ impl RoverVo {
         predicted.rotation = self.world_from_body.rotation * delta_rotation;
         predicted.translation.vector += self.last_motion.translation.vector;
         let tilt = if self.config.use_imu_tilt {
-            imu.map(|q| Tilt::from_attitude(&q))
+            let sigma = self.config.imu_tilt_sigma_rad;
+            imu.map(|q| Tilt {
+                prior_sigma_rad: (sigma > 0.0).then_some(sigma),
+                ..Tilt::from_attitude(&q)
+            })
         } else {
             None
         };

@@ -9,5 +9,6 @@ pub mod eval;
 pub mod ground;
 pub mod motion;
 pub mod pipeline;
+pub mod process;
 pub mod simulate;
 pub mod stereo;

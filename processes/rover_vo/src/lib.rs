@@ -4,6 +4,7 @@
 //! clouds with heights above the local ground. [`process`] wraps it as the `rover_vo` process.
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod config;
 pub mod eval;
 pub mod ground;

@@ -3,8 +3,9 @@
 //! 1. A robust plane `z = a + b·x + c·y` through the cloud: least squares, then refits on the
 //!    lower part of the residuals (rocks stand above the ground, so the ground is the lower
 //!    envelope).
-//! 2. Each point's residual to that plane, minus the same robust plane fitted to its
-//!    neighbours' residuals within `radius_m` (horizontal) and evaluated at the point: the local
+//! 2. Each point's residual to that plane, minus the same robust plane fitted to the residuals
+//!    of the points within `radius_m` (horizontal) of its grid cell's centre (cells of
+//!    `radius_m / 2`, one local fit per occupied cell) and evaluated at the point: the local
 //!    ground around it. A rock's top therefore gets a positive height even on a slope or in a
 //!    crater; ground points get ≈ 0.
 //!
@@ -88,6 +89,7 @@ pub struct LocalGround {
     residuals: Vec<f64>,
     neighbours: Vec<Point3<f64>>,
     scratch: Vec<f64>,
+    cells: Vec<(i64, i64, usize)>,
 }
 
 impl LocalGround {
@@ -97,6 +99,7 @@ impl LocalGround {
             residuals: Vec::with_capacity(capacity),
             neighbours: Vec::with_capacity(capacity),
             scratch: Vec::with_capacity(capacity),
+            cells: Vec::with_capacity(capacity),
         }
     }
 
@@ -118,22 +121,42 @@ impl LocalGround {
         self.residuals.clear();
         self.residuals
             .extend(points.iter().map(|p| p.z - plane.height_at(p.x, p.y)));
+        heights.resize(points.len(), f64::NAN);
         let r2 = radius_m * radius_m;
+        let cell_m = (0.5 * radius_m).max(1e-3);
+        self.cells.clear();
         for (i, p) in points.iter().enumerate() {
+            if p.x.is_finite() && p.y.is_finite() {
+                self.cells.push(((p.x / cell_m).floor() as i64, (p.y / cell_m).floor() as i64, i));
+            }
+        }
+        self.cells.sort_unstable();
+        let mut start = 0;
+        while start < self.cells.len() {
+            let (ix, iy, _) = self.cells[start];
+            let mut end = start;
+            while end < self.cells.len() && self.cells[end].0 == ix && self.cells[end].1 == iy {
+                end += 1;
+            }
+            let (cx, cy) = ((ix as f64 + 0.5) * cell_m, (iy as f64 + 0.5) * cell_m);
             self.neighbours.clear();
             for (q, &r) in points.iter().zip(&self.residuals) {
-                let (dx, dy) = (q.x - p.x, q.y - p.y);
+                let (dx, dy) = (q.x - cx, q.y - cy);
                 if dx * dx + dy * dy <= r2 {
                     self.neighbours.push(Point3::new(dx, dy, r));
                 }
             }
             let local = if self.neighbours.len() >= 8 {
                 GroundModel::fit(&self.neighbours, keep_fraction, &mut self.scratch)
-                    .map_or(0.0, |m| m.height_at(0.0, 0.0))
             } else {
-                0.0
+                None
             };
-            heights.push(self.residuals[i] - local);
+            for &(_, _, i) in &self.cells[start..end] {
+                let p = &points[i];
+                let ground = local.map_or(0.0, |m| m.height_at(p.x - cx, p.y - cy));
+                heights[i] = self.residuals[i] - ground;
+            }
+            start = end;
         }
     }
 }

@@ -325,7 +325,7 @@ impl RoverVo {
             return out;
         }
         let tracked = self.track(&predicted);
-        self.stereo_tracks(frame);
+        self.stereo_tracks(frame, &predicted);
         let estimate = if self.track_px.is_empty() {
             Err(Rejection::NoMap)
         } else if self.corrs.len() < self.config.min_inliers {
@@ -457,13 +457,22 @@ impl RoverVo {
         keep
     }
 
-    /// Builds the correspondences of the tracks, with the current stereo points.
-    fn stereo_tracks(&mut self, frame: &StereoFrame<'_>) {
+    /// Builds the correspondences of the tracks, with the current stereo points (searched
+    /// around the disparity the predicted pose implies).
+    fn stereo_tracks(&mut self, frame: &StereoFrame<'_>, predicted: &Isometry3<f64>) {
         self.corrs.clear();
+        let camera_from_world = (predicted * self.rig.body_from_camera).inverse();
+        let fb = self.rig.intrinsics.fx_px * self.rig.baseline_m;
         for (px, x) in self.track_px.iter().zip(&self.track_world) {
+            let z_m = (camera_from_world * x).z;
+            let range = (z_m > 0.1).then(|| {
+                let d = fb / z_m;
+                let half = 3.0 + 0.3 * d;
+                (d - half, d + half)
+            });
             let point_camera_m = self
                 .stereo
-                .match_point(&frame.left, &frame.right, px.x, px.y)
+                .match_point_in_range(&frame.left, &frame.right, px.x, px.y, range)
                 .ok()
                 .map(|p| p.point_camera_m);
             self.corrs.push(Correspondence {

@@ -125,6 +125,9 @@ pub struct StereoMatcher {
     band_left: Vec<f32>,
     band_right: Vec<f32>,
     scores: Vec<f32>,
+    template: Vec<f32>,
+    col_sum: Vec<f32>,
+    col_sq: Vec<f32>,
 }
 
 impl StereoMatcher {
@@ -167,6 +170,9 @@ impl StereoMatcher {
             band_left: vec![0.0; rows * width],
             band_right: vec![0.0; rows * width],
             scores: vec![0.0; params.max_disparity_px.ceil() as usize + 2],
+            template: vec![0.0; rows * rows],
+            col_sum: vec![0.0; width],
+            col_sq: vec![0.0; width],
         })
     }
 
@@ -175,13 +181,27 @@ impl StereoMatcher {
         &self.params
     }
 
-    /// Matches the left feature at `(u_px, v_px)` and triangulates it in the left camera frame.
+    /// Matches the left feature at `(u_px, v_px)` over the whole disparity range and
+    /// triangulates it in the left camera frame.
     pub fn match_point(
         &mut self,
         left: &ImageView<'_>,
         right: &ImageView<'_>,
         u_px: f32,
         v_px: f32,
+    ) -> Result<StereoPoint, NoMatch> {
+        self.match_point_in_range(left, right, u_px, v_px, None)
+    }
+
+    /// As [`Self::match_point`], searching only disparities in `range_px` (clipped to the
+    /// configured range), e.g. around a prediction.
+    pub fn match_point_in_range(
+        &mut self,
+        left: &ImageView<'_>,
+        right: &ImageView<'_>,
+        u_px: f32,
+        v_px: f32,
+        range_px: Option<(f64, f64)>,
     ) -> Result<StereoPoint, NoMatch> {
         let p = self.params;
         let r = p.patch_radius_px as isize;
@@ -201,8 +221,14 @@ impl StereoMatcher {
             return Err(NoMatch::OutOfBounds);
         }
         // Columns needed: the left patch and every right patch of the search.
-        let d_max = (p.max_disparity_px.ceil() as isize).min(xl - r);
-        let d_min = (p.min_disparity_px.floor() as isize).max(1) - 1;
+        let (lo_px, hi_px) = match range_px {
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
+                (lo.max(p.min_disparity_px), hi.min(p.max_disparity_px))
+            }
+            _ => (p.min_disparity_px, p.max_disparity_px),
+        };
+        let d_max = (hi_px.ceil() as isize).min(xl - r);
+        let d_min = (lo_px.floor() as isize).max(1) - 1;
         if d_max < d_min + 2 {
             return Err(NoMatch::BadDisparity);
         }
@@ -218,20 +244,45 @@ impl StereoMatcher {
         if f64::from(std_l) < p.min_patch_std {
             return Err(NoMatch::LowTexture);
         }
-        // Forward search: right patch at xl − d.
+        // Forward search: right patch at xl − d. Zero-mean template and per-column sums of the
+        // right band make each candidate one multiply-add per pixel.
+        let side = 2 * r as usize + 1;
+        for k in 0..rows {
+            for c in 0..side {
+                self.template[k * side + c] = self.band_left[k * self.width + xl as usize - r as usize + c] - mean_l;
+            }
+        }
+        let c_lo = (xl - d_max - r) as usize;
+        let c_hi = (xl - d_min + r) as usize;
+        for x in c_lo..=c_hi {
+            let (mut s1, mut s2) = (0.0f32, 0.0f32);
+            for k in 0..rows {
+                let v = self.band_right[k * self.width + x];
+                s1 += v;
+                s2 += v * v;
+            }
+            self.col_sum[x] = s1;
+            self.col_sq[x] = s2;
+        }
+        let n = (rows * side) as f32;
         let mut best = (f32::NEG_INFINITY, d_min);
         for d in d_min..=d_max {
-            let s = zncc(
-                &self.band_left,
-                xl as usize,
-                mean_l,
-                std_l,
-                &self.band_right,
-                (xl - d) as usize,
-                self.width,
-                rows,
-                r as usize,
-            );
+            let x0 = (xl - d - r) as usize;
+            let (mut sb, mut sb2, mut sab) = (0.0f32, 0.0f32, 0.0f32);
+            for c in 0..side {
+                sb += self.col_sum[x0 + c];
+                sb2 += self.col_sq[x0 + c];
+            }
+            for k in 0..rows {
+                let row = &self.band_right[k * self.width + x0..k * self.width + x0 + side];
+                let t = &self.template[k * side..(k + 1) * side];
+                for (a, b) in t.iter().zip(row) {
+                    sab += a * b;
+                }
+            }
+            let mean_b = sb / n;
+            let var_b = (sb2 / n - mean_b * mean_b).max(0.0);
+            let s = if var_b < 1e-6 { -1.0 } else { (sab / n) / (std_l * var_b.sqrt()) };
             self.scores[d as usize] = s;
             if s > best.0 {
                 best = (s, d);

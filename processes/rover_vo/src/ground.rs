@@ -49,7 +49,11 @@ impl GroundModel {
         Some(model)
     }
 
-    fn least_squares(points: &[Point3<f64>], max_residual: f64, prior: Option<&Self>) -> Option<Self> {
+    fn least_squares(
+        points: &[Point3<f64>],
+        max_residual: f64,
+        prior: Option<&Self>,
+    ) -> Option<Self> {
         let mut a = Matrix3::<f64>::zeros();
         let mut b = Vector3::<f64>::zeros();
         let mut n = 0;
@@ -71,9 +75,9 @@ impl GroundModel {
             return None;
         }
         let x = a.try_inverse()? * b;
-        x.iter()
-            .all(|v| v.is_finite())
-            .then_some(Self { coefficients: [x[0], x[1], x[2]] })
+        x.iter().all(|v| v.is_finite()).then_some(Self {
+            coefficients: [x[0], x[1], x[2]],
+        })
     }
 
     /// Plane height at `(x, y)`.
@@ -127,7 +131,11 @@ impl LocalGround {
         self.cells.clear();
         for (i, p) in points.iter().enumerate() {
             if p.x.is_finite() && p.y.is_finite() {
-                self.cells.push(((p.x / cell_m).floor() as i64, (p.y / cell_m).floor() as i64, i));
+                self.cells.push((
+                    (p.x / cell_m).floor() as i64,
+                    (p.y / cell_m).floor() as i64,
+                    i,
+                ));
             }
         }
         self.cells.sort_unstable();

@@ -12,11 +12,11 @@
 //! `R ← exp(δω)·R`, `t ← t + δt` (a perturbation about world z keeps roll and pitch).
 
 use hopnav_vision::ransac::{Ransac, RansacConfig, RansacProblem};
-use std::ops::AddAssign;
 use nalgebra::{
     Isometry3, Matrix3, Matrix6, Point2, Point3, Rotation3, SMatrix, SVector, Translation3,
     UnitQuaternion, Vector3, Vector6,
 };
+use std::ops::AddAssign;
 
 /// Intrinsics used for reprojection.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -219,7 +219,8 @@ pub fn kabsch(body: &[Point3<f64>], world: &[Point3<f64>]) -> Option<Isometry3<f
     let r = v_t.transpose() * d * u.transpose();
     let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
     let t = cw - rotation * cb;
-    (t.iter().all(|v| v.is_finite())).then(|| Isometry3::from_parts(Translation3::from(t), rotation))
+    (t.iter().all(|v| v.is_finite()))
+        .then(|| Isometry3::from_parts(Translation3::from(t), rotation))
 }
 
 impl MotionEstimator {
@@ -271,17 +272,31 @@ impl MotionEstimator {
             intrinsics,
             tilt,
         };
-        let fit = self.ransac.run(&problem).map_err(|_| MotionError::NoModel)?;
+        let fit = self
+            .ransac
+            .run(&problem)
+            .map_err(|_| MotionError::NoModel)?;
         let mut pose = fit.model;
         let mut rms_px = f64::NAN;
         for round in 0..3 {
-            let gate_px = if round == 0 { 2.0 * self.threshold_px } else { self.threshold_px };
+            let gate_px = if round == 0 {
+                2.0 * self.threshold_px
+            } else {
+                self.threshold_px
+            };
             self.collect_inliers(data, &pose, body_from_camera, intrinsics, gate_px);
             if self.inliers.len() < needed + 1 {
                 return Err(MotionError::NoModel);
             }
-            let (refined, rms) =
-                refine(data, &self.inliers, pose, body_from_camera, intrinsics, tilt, 6);
+            let (refined, rms) = refine(
+                data,
+                &self.inliers,
+                pose,
+                body_from_camera,
+                intrinsics,
+                tilt,
+                6,
+            );
             pose = refined;
             rms_px = rms;
         }
@@ -328,7 +343,13 @@ pub fn refine(
     tilt: Option<Tilt>,
     iterations: usize,
 ) -> (Isometry3<f64>, f64) {
-    let four_dof = matches!(tilt, Some(Tilt { prior_sigma_rad: None, .. }));
+    let four_dof = matches!(
+        tilt,
+        Some(Tilt {
+            prior_sigma_rad: None,
+            ..
+        })
+    );
     let prior = tilt.and_then(|t| {
         t.prior_sigma_rad
             .filter(|s| s.is_finite() && *s > 0.0)
@@ -371,7 +392,11 @@ pub fn refine(
             j.fixed_view_mut::<2, 3>(0, 0).copy_from(&j_omega);
             j.fixed_view_mut::<2, 3>(0, 3).copy_from(&j_t);
             let norm = e.norm();
-            let w = if norm <= huber_px { 1.0 } else { huber_px / norm };
+            let w = if norm <= huber_px {
+                1.0
+            } else {
+                huber_px / norm
+            };
             h += w * j.transpose() * j;
             g += w * j.transpose() * e;
             sum_sq += norm * norm;
@@ -385,7 +410,8 @@ pub fn refine(
             // e = Rᵀẑ − g_imu; ∂e/∂δω = Rᵀ[ẑ]ₓ.
             let e = r_t * Vector3::z() - gravity_body;
             let j = r_t * Vector3::z().cross_matrix();
-            h.fixed_view_mut::<3, 3>(0, 0).add_assign(&(weight * j.transpose() * j));
+            h.fixed_view_mut::<3, 3>(0, 0)
+                .add_assign(&(weight * j.transpose() * j));
             let gr = weight * j.transpose() * e;
             for k in 0..3 {
                 g[k] += gr[k];
@@ -434,7 +460,11 @@ mod tests {
         // Camera 1 m up, looking forward (body x) and 15° down: z_cam = (cos, 0, −sin).
         let rot = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[
             Vector3::new(0.0, -1.0, 0.0),
-            Vector3::new(-(15f64.to_radians().sin()), 0.0, -(15f64.to_radians().cos())),
+            Vector3::new(
+                -(15f64.to_radians().sin()),
+                0.0,
+                -(15f64.to_radians().cos()),
+            ),
             Vector3::new(15f64.to_radians().cos(), 0.0, -(15f64.to_radians().sin())),
         ]));
         Isometry3::from_parts(
@@ -443,8 +473,16 @@ mod tests {
         )
     }
 
-    fn scene(outlier_fraction: f64, seed: u64) -> (Vec<Correspondence>, Isometry3<f64>, Intrinsics) {
-        let k = Intrinsics { fx_px: 277.0, fy_px: 277.0, cx_px: 160.0, cy_px: 120.0 };
+    fn scene(
+        outlier_fraction: f64,
+        seed: u64,
+    ) -> (Vec<Correspondence>, Isometry3<f64>, Intrinsics) {
+        let k = Intrinsics {
+            fx_px: 277.0,
+            fy_px: 277.0,
+            cx_px: 160.0,
+            cy_px: 120.0,
+        };
         let truth = Isometry3::from_parts(
             Translation3::new(3.0, -2.0, 0.4),
             UnitQuaternion::from_euler_angles(0.03, -0.05, 0.7),
@@ -454,8 +492,14 @@ mod tests {
         let mut rng = XorShiftRng::new(seed);
         let mut data = Vec::new();
         while data.len() < 200 {
-            let p_cam = Point3::new(rng.uniform(-6.0, 6.0), rng.uniform(-1.0, 3.0), rng.uniform(2.0, 15.0));
-            let Some(px) = k.project(&p_cam) else { continue };
+            let p_cam = Point3::new(
+                rng.uniform(-6.0, 6.0),
+                rng.uniform(-1.0, 3.0),
+                rng.uniform(2.0, 15.0),
+            );
+            let Some(px) = k.project(&p_cam) else {
+                continue;
+            };
             if !(0.0..320.0).contains(&px.x) || !(0.0..240.0).contains(&px.y) {
                 continue;
             }
@@ -463,10 +507,18 @@ mod tests {
             let mut world = world_from_camera * p_cam;
             let mut pixel = px + nalgebra::Vector2::new(0.3 * rng.gaussian(), 0.3 * rng.gaussian());
             if rng.unit_f64() < outlier_fraction {
-                world += Vector3::new(rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0), rng.uniform(-1.0, 1.0));
+                world += Vector3::new(
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-1.0, 1.0),
+                );
                 pixel += nalgebra::Vector2::new(rng.uniform(-30.0, 30.0), rng.uniform(-30.0, 30.0));
             }
-            data.push(Correspondence { point_world_m: world, pixel, point_camera_m: Some(noisy_cam) });
+            data.push(Correspondence {
+                point_world_m: world,
+                pixel,
+                point_camera_m: Some(noisy_cam),
+            });
         }
         (data, truth, k)
     }
@@ -475,12 +527,23 @@ mod tests {
     fn recovers_pose_with_outliers_in_6dof_and_4dof() {
         let (data, truth, k) = scene(0.3, 3);
         let mut est = MotionEstimator::new(2.0, 256);
-        let with_prior = Tilt { prior_sigma_rad: Some(0.002), ..Tilt::from_attitude(&truth.rotation) };
-        for tilt in [None, Some(Tilt::from_attitude(&truth.rotation)), Some(with_prior)] {
+        let with_prior = Tilt {
+            prior_sigma_rad: Some(0.002),
+            ..Tilt::from_attitude(&truth.rotation)
+        };
+        for tilt in [
+            None,
+            Some(Tilt::from_attitude(&truth.rotation)),
+            Some(with_prior),
+        ] {
             let m = est.estimate(&data, &mount(), &k, tilt).unwrap();
             let dt = (m.world_from_body.translation.vector - truth.translation.vector).norm();
             let dr = m.world_from_body.rotation.angle_to(&truth.rotation);
-            assert!(dt < 0.02 && dr < 0.002, "tilt {} dt {dt} dr {dr}", tilt.is_some());
+            assert!(
+                dt < 0.02 && dr < 0.002,
+                "tilt {} dt {dt} dr {dr}",
+                tilt.is_some()
+            );
             assert!(m.inliers > 120 && m.inliers < 160, "inliers {}", m.inliers);
         }
     }

@@ -269,13 +269,20 @@ impl RoverVo {
 
     /// Height of the body origin above the ground plane seen by this stereo pair, metres,
     /// with the body leveled by `tilt` (`None` if too few ground points).
-    pub fn body_height_above_ground_m(&mut self, frame: &StereoFrame<'_>, tilt: Tilt) -> Option<f64> {
+    pub fn body_height_above_ground_m(
+        &mut self,
+        frame: &StereoFrame<'_>,
+        tilt: Tilt,
+    ) -> Option<f64> {
         self.pyr_cur.build(&frame.left).ok()?;
         let level = self.pyr_cur.level(0)?;
         self.detector.detect(level, &[], &mut self.corners).ok()?;
         self.cloud_points.clear();
         for c in &self.corners {
-            if let Ok(p) = self.stereo.match_point(&frame.left, &frame.right, c.position_px.x, c.position_px.y) {
+            if let Ok(p) =
+                self.stereo
+                    .match_point(&frame.left, &frame.right, c.position_px.x, c.position_px.y)
+            {
                 let body = self.rig.body_from_camera * p.point_camera_m;
                 self.cloud_points.push(tilt.leveling * body);
             }
@@ -283,7 +290,11 @@ impl RoverVo {
         if self.cloud_points.len() < 20 {
             return None;
         }
-        let plane = GroundModel::fit(&self.cloud_points, self.config.ground_keep_fraction, &mut self.heights)?;
+        let plane = GroundModel::fit(
+            &self.cloud_points,
+            self.config.ground_keep_fraction,
+            &mut self.heights,
+        )?;
         Some(-plane.height_at(0.0, 0.0))
     }
 
@@ -296,7 +307,9 @@ impl RoverVo {
 
     /// Processes one stereo frame.
     pub fn process_frame(&mut self, frame: &StereoFrame<'_>) -> VoOutput {
-        let imu = frame.imu_attitude.filter(|q| q.coords.iter().all(|v| v.is_finite()));
+        let imu = frame
+            .imu_attitude
+            .filter(|q| q.coords.iter().all(|v| v.is_finite()));
         // Prediction: IMU relative rotation (or last motion), constant velocity translation.
         let delta_rotation = match (self.imu_prev, imu) {
             (Some(prev), Some(now)) => prev.inverse() * now,
@@ -332,11 +345,18 @@ impl RoverVo {
             Err(Rejection::TooFewTracks)
         } else {
             self.motion
-                .estimate(&self.corrs, &self.rig.body_from_camera, &self.rig.intrinsics, tilt)
+                .estimate(
+                    &self.corrs,
+                    &self.rig.body_from_camera,
+                    &self.rig.intrinsics,
+                    tilt,
+                )
                 .map_err(Rejection::Motion)
         };
         let accepted = estimate.and_then(|m| {
-            let step_m = (m.world_from_body.translation.vector - self.world_from_body.translation.vector).norm();
+            let step_m = (m.world_from_body.translation.vector
+                - self.world_from_body.translation.vector)
+                .norm();
             if m.inliers < self.config.min_inliers {
                 Err(Rejection::FewInliers)
             } else if (m.inliers as f64) < self.config.min_inlier_ratio * tracked as f64 {
@@ -355,8 +375,10 @@ impl RoverVo {
                 VoOutput {
                     rejection: None,
                     world_from_body: m.world_from_body,
-                    confidence: (0.5 + 0.5 * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
-                        .min(1.0),
+                    confidence: (0.5
+                        + 0.5
+                            * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
+                    .min(1.0),
                     status: VoStatus::Tracking,
                     tracked_features: tracked,
                     inliers: m.inliers,
@@ -371,7 +393,11 @@ impl RoverVo {
                 self.last_motion = Isometry3::identity();
                 let mut out = self.propagate(held, tracked);
                 out.rejection = Some(rejection);
-                out.status = if had_map { VoStatus::Propagated } else { out.status };
+                out.status = if had_map {
+                    VoStatus::Propagated
+                } else {
+                    out.status
+                };
                 out
             }
         };
@@ -431,10 +457,18 @@ impl RoverVo {
             self.next_px.push(guess);
         }
         self.status.clear();
-        self.status.resize(self.track_px.len(), TrackStatus::InvalidInput);
+        self.status
+            .resize(self.track_px.len(), TrackStatus::InvalidInput);
         if self
             .klt
-            .track(&self.pyr_prev, &self.pyr_cur, &self.track_px, &mut self.next_px, &mut self.status, true)
+            .track(
+                &self.pyr_prev,
+                &self.pyr_cur,
+                &self.track_px,
+                &mut self.next_px,
+                &mut self.status,
+                true,
+            )
             .is_err()
         {
             self.clear_tracks();
@@ -509,7 +543,11 @@ impl RoverVo {
         let Some(level) = self.pyr_cur.level(0) else {
             return 0;
         };
-        if self.detector.detect(level, &self.track_px, &mut self.corners).is_err() {
+        if self
+            .detector
+            .detect(level, &self.track_px, &mut self.corners)
+            .is_err()
+        {
             return 0;
         }
         let world_from_camera = self.world_from_body * self.rig.body_from_camera;
@@ -518,8 +556,12 @@ impl RoverVo {
             if self.track_px.len() >= self.config.max_features {
                 break;
             }
-            let Ok(p) = self.stereo.match_point(&frame.left, &frame.right, c.position_px.x, c.position_px.y)
-            else {
+            let Ok(p) = self.stereo.match_point(
+                &frame.left,
+                &frame.right,
+                c.position_px.x,
+                c.position_px.y,
+            ) else {
                 continue;
             };
             self.track_px.push(c.position_px);
@@ -590,7 +632,10 @@ mod tests {
         let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
         let report = evaluate(&run, &sim.truth_world_from_body).unwrap();
         assert_eq!(report.propagated_frames, 0, "{report}");
-        assert!(report.final_error_m < 0.05 + 0.02 * report.distance_m, "{report}");
+        assert!(
+            report.final_error_m < 0.05 + 0.02 * report.distance_m,
+            "{report}"
+        );
         assert!(run.cloud_points > 100);
     }
 
@@ -600,12 +645,21 @@ mod tests {
         let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
         for k in 30..36 {
             let o = &run.outputs[k];
-            assert!(o.confidence < 0.5 && o.status == VoStatus::Propagated, "frame {k}: {o:?}");
+            assert!(
+                o.confidence < 0.5 && o.status == VoStatus::Propagated,
+                "frame {k}: {o:?}"
+            );
             // Position held, attitude from the IMU.
-            let err = o.world_from_body.rotation.angle_to(&sim.truth_world_from_body[k].rotation);
+            let err = o
+                .world_from_body
+                .rotation
+                .angle_to(&sim.truth_world_from_body[k].rotation);
             assert!(err < 0.02, "frame {k}: rotation error {err}");
         }
-        assert!(run.outputs[40..].iter().all(|o| o.confidence >= 0.5), "no recovery");
+        assert!(
+            run.outputs[40..].iter().all(|o| o.confidence >= 0.5),
+            "no recovery"
+        );
         let last = run.outputs.len() - 1;
         let err = (run.outputs[last].world_from_body.translation.vector
             - sim.truth_world_from_body[last].translation.vector)
@@ -635,7 +689,11 @@ mod tests {
 
     #[test]
     fn deterministic() {
-        let sim = simulate_traverse(&TraverseConfig { max_frames: Some(30), ..short_traverse(Vec::new()) }).unwrap();
+        let sim = simulate_traverse(&TraverseConfig {
+            max_frames: Some(30),
+            ..short_traverse(Vec::new())
+        })
+        .unwrap();
         let a = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
         let b = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
         assert_eq!(a.outputs, b.outputs);

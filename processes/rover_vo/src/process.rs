@@ -14,8 +14,8 @@
 
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{
-    CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3,
-    PoseEstimate, Robot,
+    CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3, PoseEstimate,
+    Robot,
 };
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
@@ -56,11 +56,13 @@ pub fn rover_vo_section(config: &HopnavConfig) -> Result<RoverVoConfig, ConfigEr
     if section.start_xy_m.is_none() {
         section.start_xy_m = Some(resolve_start_xy(config)?);
     }
-    section.validate().map_err(|error| ConfigError::OutOfRange {
-        key: format!("rover_vo.{}", error.key),
-        value: error.value,
-        allowed: error.allowed.to_owned(),
-    })?;
+    section
+        .validate()
+        .map_err(|error| ConfigError::OutOfRange {
+            key: format!("rover_vo.{}", error.key),
+            value: error.value,
+            allowed: error.allowed.to_owned(),
+        })?;
     Ok(section)
 }
 
@@ -111,7 +113,11 @@ pub fn rig_from_header(header: &ImageHeader, slice_len: usize) -> Option<StereoR
         .iter()
         .all(|v| v.is_finite());
     let mount = header.body_from_camera;
-    let mount_finite = mount.position_m.iter().chain(&mount.orientation_xyzw).all(|v| v.is_finite());
+    let mount_finite = mount
+        .position_m
+        .iter()
+        .chain(&mount.orientation_xyzw)
+        .all(|v| v.is_finite());
     let ok = finite
         && mount_finite
         && header.view_count == 2
@@ -167,7 +173,11 @@ impl Process for RoverVoProcess {
         })
     }
 
-    fn step(&mut self, _context: &ProcessContext, _tick: &FrameTick) -> Result<(), RoverVoProcessError> {
+    fn step(
+        &mut self,
+        _context: &ProcessContext,
+        _tick: &FrameTick,
+    ) -> Result<(), RoverVoProcessError> {
         while let Some(sample) = self.imu.receive()? {
             if let Some(q) = imu_attitude(&sample) {
                 self.last_imu = Some(q);
@@ -185,7 +195,11 @@ impl Process for RoverVoProcess {
             return Ok(());
         };
         let view_len = header.view_len_bytes();
-        let (w, h, stride) = (header.width_px as usize, header.height_px as usize, header.stride_bytes as usize);
+        let (w, h, stride) = (
+            header.width_px as usize,
+            header.height_px as usize,
+            header.stride_bytes as usize,
+        );
         let (Ok(left), Ok(right)) = (
             ImageView::new(&pixels[..view_len], w, h, stride),
             ImageView::new(&pixels[view_len..2 * view_len], w, h, stride),
@@ -195,8 +209,11 @@ impl Process for RoverVoProcess {
         };
         if self.vo.as_ref().is_none_or(|vo| *vo.rig() != rig) {
             let carried = self.vo.as_ref().map(RoverVo::world_from_body);
-            let Ok(vo) = RoverVo::new(self.config.clone(), rig, carried.unwrap_or_else(Isometry3::identity))
-            else {
+            let Ok(vo) = RoverVo::new(
+                self.config.clone(),
+                rig,
+                carried.unwrap_or_else(Isometry3::identity),
+            ) else {
                 self.bad_headers += 1;
                 return Ok(());
             };
@@ -206,7 +223,11 @@ impl Process for RoverVoProcess {
         let Some(vo) = self.vo.as_mut() else {
             return Ok(());
         };
-        let frame = StereoFrame { left, right, imu_attitude: self.last_imu };
+        let frame = StereoFrame {
+            left,
+            right,
+            imu_attitude: self.last_imu,
+        };
         if !self.started {
             let Some(attitude) = self.last_imu else {
                 return Ok(()); // the start attitude comes from the IMU: wait for it
@@ -215,7 +236,12 @@ impl Process for RoverVoProcess {
                 .body_height_above_ground_m(&frame, Tilt::from_attitude(&attitude))
                 .unwrap_or(rig.body_from_camera.translation.z * 0.4);
             let start_xy = self.config.start_xy_m.unwrap_or(PHYSICS_DEFAULT_START_XY_M);
-            vo.reset(start_pose(attitude, start_xy, self.config.start_ground_z_m, height_m));
+            vo.reset(start_pose(
+                attitude,
+                start_xy,
+                self.config.start_ground_z_m,
+                height_m,
+            ));
             self.started = true;
         }
         let output = vo.process_frame(&frame);
@@ -237,7 +263,8 @@ impl Process for RoverVoProcess {
             let len = cloud.len().min(self.clouds.max_len());
             self.keyframes += 1;
             let keyframe_index = self.keyframes;
-            let world_from_camera = Pose3::from_isometry(&(output.world_from_body * rig.body_from_camera));
+            let world_from_camera =
+                Pose3::from_isometry(&(output.world_from_body * rig.body_from_camera));
             self.clouds.send_from_fn(
                 len,
                 |cloud_header| {
@@ -282,12 +309,21 @@ mod tests {
         let section = rover_vo_section(&config).unwrap();
         assert_eq!(section.start_xy_m, Some(PHYSICS_DEFAULT_START_XY_M));
         let config = hopnav_config::load(Some("[physics.rover]\nstart_xy_m = [3.0, 4]\n")).unwrap();
-        assert_eq!(rover_vo_section(&config).unwrap().start_xy_m, Some([3.0, 4.0]));
+        assert_eq!(
+            rover_vo_section(&config).unwrap().start_xy_m,
+            Some([3.0, 4.0])
+        );
         let config = hopnav_config::load(Some("[world.scenario]\nstart_m = [5.0, 6.0]\n")).unwrap();
-        assert_eq!(rover_vo_section(&config).unwrap().start_xy_m, Some([5.0, 4.5]));
+        assert_eq!(
+            rover_vo_section(&config).unwrap().start_xy_m,
+            Some([5.0, 4.5])
+        );
         let config = hopnav_config::load(Some("[rover_vo]\nmin_zncc = 3.0\n")).unwrap();
         let err = rover_vo_section(&config).unwrap_err().to_string();
-        assert!(err.contains("rover_vo.min_zncc") && err.contains("[0, 1]"), "{err}");
+        assert!(
+            err.contains("rover_vo.min_zncc") && err.contains("[0, 1]"),
+            "{err}"
+        );
         let config = hopnav_config::load(Some("[rover_vo]\nno_such_key = 1\n")).unwrap();
         assert!(rover_vo_section(&config).is_err());
     }
@@ -295,7 +331,12 @@ mod tests {
     #[test]
     fn bad_headers_are_rejected() {
         let good = ImageHeader {
-            intrinsics: CameraIntrinsics { fx_px: 277.0, fy_px: 277.0, cx_px: 159.5, cy_px: 119.5 },
+            intrinsics: CameraIntrinsics {
+                fx_px: 277.0,
+                fy_px: 277.0,
+                cx_px: 159.5,
+                cy_px: 119.5,
+            },
             baseline_m: 0.2,
             width_px: 320,
             height_px: 240,
@@ -308,14 +349,38 @@ mod tests {
         let len = 2 * 320 * 240;
         assert!(rig_from_header(&good, len).is_some());
         assert!(rig_from_header(&good, len - 1).is_none());
-        assert!(rig_from_header(&ImageHeader { view_count: 1, ..good }, len).is_none());
-        assert!(rig_from_header(&ImageHeader { baseline_m: f64::NAN, ..good }, len).is_none());
+        assert!(
+            rig_from_header(
+                &ImageHeader {
+                    view_count: 1,
+                    ..good
+                },
+                len
+            )
+            .is_none()
+        );
+        assert!(
+            rig_from_header(
+                &ImageHeader {
+                    baseline_m: f64::NAN,
+                    ..good
+                },
+                len
+            )
+            .is_none()
+        );
         let mut nan_k = good;
         nan_k.intrinsics.fx_px = f64::INFINITY;
         assert!(rig_from_header(&nan_k, len).is_none());
-        let imu = ImuSample { attitude_xyzw: [0.0, 0.0, 0.0, 1.0], ..ImuSample::default() };
+        let imu = ImuSample {
+            attitude_xyzw: [0.0, 0.0, 0.0, 1.0],
+            ..ImuSample::default()
+        };
         assert!(imu_attitude(&imu).is_some());
-        let imu = ImuSample { attitude_xyzw: [f64::NAN, 0.0, 0.0, 1.0], ..ImuSample::default() };
+        let imu = ImuSample {
+            attitude_xyzw: [f64::NAN, 0.0, 0.0, 1.0],
+            ..ImuSample::default()
+        };
         assert!(imu_attitude(&imu).is_none());
     }
 }

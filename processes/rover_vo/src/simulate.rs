@@ -144,7 +144,11 @@ impl SimulatedTraverse {
 
 /// `body_from_camera` of the **left** camera: the pair's midpoint at `position_m`, looking along
 /// body x tilted `pitch_down_rad` down, the left camera `baseline/2` along camera −x.
-pub fn left_body_from_camera(position_m: [f64; 3], pitch_down_rad: f64, baseline_m: f64) -> Isometry3<f64> {
+pub fn left_body_from_camera(
+    position_m: [f64; 3],
+    pitch_down_rad: f64,
+    baseline_m: f64,
+) -> Isometry3<f64> {
     let eye = Point3::from(Vector3::from(position_m));
     let view = Vector3::new(pitch_down_rad.cos(), 0.0, -pitch_down_rad.sin());
     look_at(&eye, &(eye + view), &Vector3::z()) * Translation3::new(-0.5 * baseline_m, 0.0, 0.0)
@@ -158,7 +162,10 @@ fn body_on_terrain(world: &World, x: f64, y: f64, yaw_rad: f64, height_m: f64) -
     let by = n.cross(&bx);
     let rot = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[bx, by, n]));
     let z = world.ground_height_at(x, y) + height_m;
-    Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_rotation_matrix(&rot))
+    Isometry3::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_rotation_matrix(&rot),
+    )
 }
 
 /// Planar path samples `(x, y, yaw)` at `1/fps` steps.
@@ -201,7 +208,11 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
     if cfg.waypoints_xy_m.len() < 2 {
         return bad("waypoints_xy_m", "needs at least two waypoints".into());
     }
-    for (key, v) in [("fps", cfg.fps), ("speed_mps", cfg.speed_mps), ("yaw_rate_radps", cfg.yaw_rate_radps)] {
+    for (key, v) in [
+        ("fps", cfg.fps),
+        ("speed_mps", cfg.speed_mps),
+        ("yaw_rate_radps", cfg.yaw_rate_radps),
+    ] {
         if !(v.is_finite() && v > 0.0) {
             return bad(key, format!("must be finite and > 0, got {v}"));
         }
@@ -221,7 +232,11 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
             cy_px: wc.cy_px,
         },
         baseline_m: cfg.baseline_m,
-        body_from_camera: left_body_from_camera(cfg.mount_position_m, cfg.mount_pitch_down_rad, cfg.baseline_m),
+        body_from_camera: left_body_from_camera(
+            cfg.mount_position_m,
+            cfg.mount_pitch_down_rad,
+            cfg.baseline_m,
+        ),
     };
     let (w, h) = (wc.width_px as usize, wc.height_px as usize);
     let mut samples = path_samples(cfg);
@@ -262,8 +277,10 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
                 w,
             )?;
         }
-        let noise = Vector3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * cfg.imu_noise_rad;
-        let drift = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), cfg.imu_yaw_drift_radps * t);
+        let noise =
+            Vector3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * cfg.imu_noise_rad;
+        let drift =
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), cfg.imu_yaw_drift_radps * t);
         out.imu_attitude
             .push(drift * body.rotation * UnitQuaternion::from_scaled_axis(noise));
         out.t_s.push(t);

@@ -147,7 +147,8 @@ impl StereoMatcher {
         if !(params.cx_px.is_finite() && params.cy_px.is_finite()) {
             return bad("cx_px", params.cx_px);
         }
-        if !(positive(params.min_disparity_px) && params.max_disparity_px > params.min_disparity_px + 1.0)
+        if !(positive(params.min_disparity_px)
+            && params.max_disparity_px > params.min_disparity_px + 1.0)
             || params.max_disparity_px > 1024.0
         {
             return bad("max_disparity_px", params.max_disparity_px);
@@ -234,10 +235,27 @@ impl StereoMatcher {
         }
         let x_lo = (xl - d_max - r).max(0) as usize;
         let x_hi = (xl + r) as usize;
-        fill_band(left, &mut self.band_left, self.width, y_top, 2 * r as usize + 1, x_lo, x_hi);
-        fill_band(right, &mut self.band_right, self.width, y_top, 2 * r as usize + 1, x_lo, x_hi);
+        fill_band(
+            left,
+            &mut self.band_left,
+            self.width,
+            y_top,
+            2 * r as usize + 1,
+            x_lo,
+            x_hi,
+        );
+        fill_band(
+            right,
+            &mut self.band_right,
+            self.width,
+            y_top,
+            2 * r as usize + 1,
+            x_lo,
+            x_hi,
+        );
         let rows = 2 * r as usize + 1;
-        let Some((mean_l, std_l)) = patch_stats(&self.band_left, self.width, rows, xl as usize, r as usize)
+        let Some((mean_l, std_l)) =
+            patch_stats(&self.band_left, self.width, rows, xl as usize, r as usize)
         else {
             return Err(NoMatch::LowTexture);
         };
@@ -249,7 +267,8 @@ impl StereoMatcher {
         let side = 2 * r as usize + 1;
         for k in 0..rows {
             for c in 0..side {
-                self.template[k * side + c] = self.band_left[k * self.width + xl as usize - r as usize + c] - mean_l;
+                self.template[k * side + c] =
+                    self.band_left[k * self.width + xl as usize - r as usize + c] - mean_l;
             }
         }
         let c_lo = (xl - d_max - r) as usize;
@@ -282,7 +301,11 @@ impl StereoMatcher {
             }
             let mean_b = sb / n;
             let var_b = (sb2 / n - mean_b * mean_b).max(0.0);
-            let s = if var_b < 1e-6 { -1.0 } else { (sab / n) / (std_l * var_b.sqrt()) };
+            let s = if var_b < 1e-6 {
+                -1.0
+            } else {
+                (sab / n) / (std_l * var_b.sqrt())
+            };
             self.scores[d as usize] = s;
             if s > best.0 {
                 best = (s, d);
@@ -306,7 +329,8 @@ impl StereoMatcher {
         if xr - r < 0 {
             return Err(NoMatch::OutOfBounds);
         }
-        let Some((mean_r, std_r)) = patch_stats(&self.band_right, self.width, rows, xr as usize, r as usize)
+        let Some((mean_r, std_r)) =
+            patch_stats(&self.band_right, self.width, rows, xr as usize, r as usize)
         else {
             return Err(NoMatch::LowTexture);
         };
@@ -351,7 +375,8 @@ impl StereoMatcher {
         }
         let back_disp = back.1 as f64 + parabola(back_scores[0], back_scores[1], back_scores[2]);
         let back_xl = xr as f64 + back_disp;
-        if (back_xl - xl as f64 - 0.0).abs() > p.left_right_max_px + (xr as f64 - (xl as f64 - disparity)).abs()
+        if (back_xl - xl as f64 - 0.0).abs()
+            > p.left_right_max_px + (xr as f64 - (xl as f64 - disparity)).abs()
         {
             return Err(NoMatch::LeftRightMismatch);
         }
@@ -447,7 +472,7 @@ fn zncc(
 fn parabola(a: f32, b: f32, c: f32) -> f64 {
     let (a, b, c) = (f64::from(a), f64::from(b), f64::from(c));
     let denom = a - 2.0 * b + c;
-    if !(denom < -1e-9) || !a.is_finite() || !c.is_finite() {
+    if denom.is_nan() || denom >= -1e-9 || !a.is_finite() || !c.is_finite() {
         return 0.0;
     }
     (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
@@ -460,7 +485,8 @@ mod tests {
     /// Value noise: hashed grid values at a 2.5-px spacing, bilinearly interpolated.
     pub(crate) fn texture(x: f64, y: f64) -> f64 {
         let hash = |i: i64, j: i64| {
-            let mut z = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+            let mut z = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
             z ^= z >> 29;
             z = z.wrapping_mul(0xBF58_476D_1CE4_E5B9);
             z ^= z >> 32;
@@ -481,21 +507,36 @@ mod tests {
     fn recovers_subpixel_disparity_and_rejects_flat() {
         let (w, h) = (160usize, 60usize);
         for &d in &[3.3f64, 12.75, 40.4] {
-            let left: Vec<u8> = (0..w * h).map(|i| texture((i % w) as f64, (i / w) as f64) as u8).collect();
-            let right: Vec<u8> =
-                (0..w * h).map(|i| texture((i % w) as f64 + d, (i / w) as f64) as u8).collect();
-            let params = StereoParams { fx_px: 100.0, fy_px: 100.0, cx_px: 80.0, cy_px: 30.0, ..StereoParams::default() };
+            let left: Vec<u8> = (0..w * h)
+                .map(|i| texture((i % w) as f64, (i / w) as f64) as u8)
+                .collect();
+            let right: Vec<u8> = (0..w * h)
+                .map(|i| texture((i % w) as f64 + d, (i / w) as f64) as u8)
+                .collect();
+            let params = StereoParams {
+                fx_px: 100.0,
+                fy_px: 100.0,
+                cx_px: 80.0,
+                cy_px: 30.0,
+                ..StereoParams::default()
+            };
             let mut m = StereoMatcher::new(w as u32, h as u32, params).unwrap();
             let l = ImageView::packed(&left, w, h).unwrap();
             let r = ImageView::packed(&right, w, h).unwrap();
             let p = m.match_point(&l, &r, 120.3, 30.6).unwrap();
-            assert!((p.disparity_px - d).abs() < 0.15, "d {d} got {}", p.disparity_px);
+            assert!(
+                (p.disparity_px - d).abs() < 0.15,
+                "d {d} got {}",
+                p.disparity_px
+            );
             assert!((p.point_camera_m.z - 20.0 / d).abs() < 0.1 * 20.0 / d);
             let flat = vec![100u8; w * h];
             let f = ImageView::packed(&flat, w, h).unwrap();
             assert_eq!(m.match_point(&f, &f, 120.0, 30.0), Err(NoMatch::LowTexture));
             // A right view of unrelated content: no consistent match.
-            let other: Vec<u8> = (0..w * h).map(|i| texture((i / w) as f64 * 3.0, (i % w) as f64 * 1.7) as u8).collect();
+            let other: Vec<u8> = (0..w * h)
+                .map(|i| texture((i / w) as f64 * 3.0, (i % w) as f64 * 1.7) as u8)
+                .collect();
             let o = ImageView::packed(&other, w, h).unwrap();
             assert!(m.match_point(&l, &o, 120.0, 30.0).is_err());
         }

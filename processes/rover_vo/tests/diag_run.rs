@@ -7,7 +7,9 @@ use hopnav_rover_vo::simulate::{TraverseConfig, simulate_traverse};
 #[ignore]
 fn error_along_traverse() {
     let mut cfg = TraverseConfig::default();
-    if let Ok(n) = std::env::var("FRAMES") { cfg.max_frames = n.parse().ok(); }
+    if let Ok(n) = std::env::var("FRAMES") {
+        cfg.max_frames = n.parse().ok();
+    }
     let sim = simulate_traverse(&cfg).unwrap();
     println!("min rock clearance {:.2} m", sim.min_rock_clearance_m);
     let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
@@ -17,9 +19,24 @@ fn error_along_traverse() {
             let e = o.world_from_body;
             let d = e.translation.vector - t.translation.vector;
             let (r, p, y) = (t.inverse() * e).rotation.euler_angles();
-            println!("{k:5} truth ({:7.2},{:7.2},{:6.2}) err ({:6.3},{:6.3},{:6.3}) rot err ({:.2},{:.2},{:.2})° trk {} inl {} kf {} {:?} {:?} t {:.1}ms",
-                t.translation.x, t.translation.y, t.translation.z, d.x, d.y, d.z,
-                r.to_degrees(), p.to_degrees(), y.to_degrees(), o.tracked_features, o.inliers, o.is_keyframe, o.status, o.rejection, run.frame_time_us[k] / 1e3);
+            println!(
+                "{k:5} truth ({:7.2},{:7.2},{:6.2}) err ({:6.3},{:6.3},{:6.3}) rot err ({:.2},{:.2},{:.2})° trk {} inl {} kf {} {:?} {:?} t {:.1}ms",
+                t.translation.x,
+                t.translation.y,
+                t.translation.z,
+                d.x,
+                d.y,
+                d.z,
+                r.to_degrees(),
+                p.to_degrees(),
+                y.to_degrees(),
+                o.tracked_features,
+                o.inliers,
+                o.is_keyframe,
+                o.status,
+                o.rejection,
+                run.frame_time_us[k] / 1e3
+            );
         }
     }
 }

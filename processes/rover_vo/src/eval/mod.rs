@@ -75,8 +75,12 @@ pub struct TraverseRun {
 }
 
 /// Runs the VO over every frame of `sim`.
-pub fn run_traverse(sim: &SimulatedTraverse, config: &RoverVoConfig) -> Result<TraverseRun, EvalError> {
-    let (Some(first_imu), Some(first_truth)) = (sim.imu_attitude.first(), sim.truth_world_from_body.first())
+pub fn run_traverse(
+    sim: &SimulatedTraverse,
+    config: &RoverVoConfig,
+) -> Result<TraverseRun, EvalError> {
+    let (Some(first_imu), Some(first_truth)) =
+        (sim.imu_attitude.first(), sim.truth_world_from_body.first())
     else {
         return Err(EvalError::TooFewFrames);
     };
@@ -90,14 +94,27 @@ pub fn run_traverse(sim: &SimulatedTraverse, config: &RoverVoConfig) -> Result<T
     };
     let mut started = false;
     for k in 0..sim.left.len() {
-        let (Ok(left), Ok(right)) = (ImageView::packed(&sim.left[k], w, h), ImageView::packed(&sim.right[k], w, h))
-        else {
+        let (Ok(left), Ok(right)) = (
+            ImageView::packed(&sim.left[k], w, h),
+            ImageView::packed(&sim.right[k], w, h),
+        ) else {
             continue;
         };
-        let frame = StereoFrame { left, right, imu_attitude: sim.imu_attitude.get(k).copied() };
+        let frame = StereoFrame {
+            left,
+            right,
+            imu_attitude: sim.imu_attitude.get(k).copied(),
+        };
         if !started {
-            let height = vo.body_height_above_ground_m(&frame, Tilt::from_attitude(first_imu)).unwrap_or(0.4);
-            vo.reset(start_pose(*first_imu, start_xy, sim.start_ground_z_m, height));
+            let height = vo
+                .body_height_above_ground_m(&frame, Tilt::from_attitude(first_imu))
+                .unwrap_or(0.4);
+            vo.reset(start_pose(
+                *first_imu,
+                start_xy,
+                sim.start_ground_z_m,
+                height,
+            ));
             started = true;
         }
         let t0 = Instant::now();
@@ -179,7 +196,8 @@ pub fn evaluate(run: &TraverseRun, truth: &[Isometry3<f64>]) -> Option<EvalRepor
     times.sort_by(f64::total_cmp);
     let yaw = |p: &Isometry3<f64>| p.rotation.euler_angles().2;
     let dyaw = yaw(&est[n - 1]) - yaw(&gt[n - 1]);
-    let dyaw = (dyaw + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI;
+    let dyaw =
+        (dyaw + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI;
     Some(EvalReport {
         frames: n,
         distance_m,
@@ -193,7 +211,10 @@ pub fn evaluate(run: &TraverseRun, truth: &[Isometry3<f64>]) -> Option<EvalRepor
         rpe_frame_rad: rpe1.rotation_rmse_rad,
         rpe_percent_per_m: 100.0 * rpe10.translation_per_m,
         final_yaw_error_rad: dyaw,
-        propagated_frames: run.outputs[..n].iter().filter(|o| o.status == VoStatus::Propagated).count(),
+        propagated_frames: run.outputs[..n]
+            .iter()
+            .filter(|o| o.status == VoStatus::Propagated)
+            .count(),
         keyframes: run.outputs[..n].iter().filter(|o| o.is_keyframe).count(),
         p50_ms: quantile(&times, 0.5) / 1e3,
         p99_ms: quantile(&times, 0.99) / 1e3,
@@ -245,14 +266,19 @@ pub fn run(options: &EvalOptions) -> Result<EvalReport, EvalError> {
             path: dir.display().to_string(),
             message: e.to_string(),
         })?;
-        let stamped = |poses: &mut dyn Iterator<Item = Isometry3<f64>>| -> Vec<(f64, Isometry3<f64>)> {
-            sim.t_s.iter().copied().zip(poses).collect()
-        };
+        let stamped =
+            |poses: &mut dyn Iterator<Item = Isometry3<f64>>| -> Vec<(f64, Isometry3<f64>)> {
+                sim.t_s.iter().copied().zip(poses).collect()
+            };
         let truth = stamped(&mut sim.truth_world_from_body.iter().copied());
         let estimate = stamped(&mut run.outputs.iter().map(|o| o.world_from_body));
         tum::write_tum(&dir.join("truth.tum"), &truth)?;
         tum::write_tum(&dir.join("estimate.tum"), &estimate)?;
-        plot::write_top_view_png(&dir.join("trajectory.png"), &sim.truth_world_from_body, &run.poses())?;
+        plot::write_top_view_png(
+            &dir.join("trajectory.png"),
+            &sim.truth_world_from_body,
+            &run.poses(),
+        )?;
     }
     Ok(report)
 }

@@ -14,7 +14,10 @@ pub fn write_top_view_png(
 ) -> Result<(), PlotError> {
     let xy = |label: &str, poses: &[Isometry3<f64>]| Series {
         label: label.to_owned(),
-        points: poses.iter().map(|p| (p.translation.x, p.translation.y)).collect(),
+        points: poses
+            .iter()
+            .map(|p| (p.translation.x, p.translation.y))
+            .collect(),
     };
     let series = [xy("truth", truth), xy("estimate", estimate)];
     write_png(

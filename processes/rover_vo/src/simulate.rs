@@ -128,8 +128,11 @@ pub struct SimulatedTraverse {
     pub imu_attitude: Vec<UnitQuaternion<f64>>,
     /// Ground height under the start, metres (what the config would say).
     pub start_ground_z_m: f64,
-    /// Smallest horizontal clearance between the body origin and a rock footprint, metres.
+    /// Smallest horizontal clearance between the body origin and a rock footprint, metres
+    /// (the scripted path ignores rocks; rocks are lower than the camera, ≤ 0.6 m).
     pub min_rock_clearance_m: f64,
+    /// The world rendered (for evaluating cloud heights).
+    pub world: World,
 }
 
 impl SimulatedTraverse {
@@ -255,6 +258,7 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
         imu_attitude: Vec::with_capacity(n),
         start_ground_z_m: world.ground_height_at(start[0], start[1]),
         min_rock_clearance_m: f64::INFINITY,
+        world: World::generate(&cfg.world)?,
     };
     for (k, &(x, y, yaw)) in samples.iter().enumerate() {
         let t = k as f64 / cfg.fps;

@@ -17,7 +17,7 @@ pub use hopnav_metrics::trajectory::{errors as metrics, tum};
 
 use crate::config::RoverVoConfig;
 use crate::motion::Tilt;
-use crate::pipeline::{RoverVo, StereoFrame, VoError, VoOutput, VoStatus, start_pose};
+use crate::pipeline::{CloudPoint, RoverVo, StereoFrame, VoError, VoOutput, VoStatus, start_pose};
 use crate::simulate::{SimError, SimulatedTraverse, TraverseConfig, simulate_traverse};
 use hopnav_vision::image::ImageView;
 use nalgebra::Isometry3;
@@ -72,6 +72,8 @@ pub struct TraverseRun {
     pub frame_time_us: Vec<f64>,
     /// Keyframe clouds' points in total.
     pub cloud_points: usize,
+    /// Every keyframe cloud point with the frame it was published at.
+    pub clouds: Vec<(usize, CloudPoint)>,
 }
 
 /// Runs the VO over every frame of `sim`.
@@ -91,6 +93,7 @@ pub fn run_traverse(
         outputs: Vec::with_capacity(sim.left.len()),
         frame_time_us: Vec::with_capacity(sim.left.len()),
         cloud_points: 0,
+        clouds: Vec::new(),
     };
     let mut started = false;
     for k in 0..sim.left.len() {
@@ -122,6 +125,7 @@ pub fn run_traverse(
         run.frame_time_us.push(t0.elapsed().as_secs_f64() * 1e6);
         if out.is_keyframe {
             run.cloud_points += vo.cloud().len();
+            run.clouds.extend(vo.cloud().iter().map(|p| (k, *p)));
         }
         run.outputs.push(out);
     }
@@ -159,6 +163,15 @@ pub struct EvalReport {
     pub propagated_frames: usize,
     /// Keyframes.
     pub keyframes: usize,
+    /// Cloud points checked against the terrain (depth ≤ 10 m).
+    pub cloud_points_checked: usize,
+    /// RMS of the estimated height above ground of points that lie on the terrain (true
+    /// height < 0.05 m), metres.
+    pub cloud_ground_rms_m: f64,
+    /// Share of points truly ≥ 0.3 m above the terrain (rock tops) given a height > 0.15 m.
+    pub cloud_rock_detected: f64,
+    /// Share of points on the terrain given a height > 0.3 m (false obstacles).
+    pub cloud_false_obstacles: f64,
     /// Frame time p50, milliseconds.
     pub p50_ms: f64,
     /// Frame time p99, milliseconds.
@@ -175,7 +188,60 @@ pub(crate) fn quantile(sorted: &[f64], q: f64) -> f64 {
     sorted[(((sorted.len() - 1) as f64) * q).round() as usize]
 }
 
-/// Metrics of `run` against `truth`.
+/// Cloud height statistics: `(checked, ground RMS, rock detected share, false obstacle share)`.
+/// A point's truth is its estimate moved by the keyframe's pose error.
+fn cloud_heights(run: &TraverseRun, sim: &SimulatedTraverse) -> (usize, f64, f64, f64) {
+    let (mut n, mut ground_sq, mut ground_n, mut rock_n, mut rock_hit, mut false_obst) =
+        (0usize, 0.0, 0usize, 0usize, 0usize, 0usize);
+    for (k, p) in &run.clouds {
+        let (Some(est), Some(truth)) = (run.outputs.get(*k), sim.truth_world_from_body.get(*k))
+        else {
+            continue;
+        };
+        if !p.height_above_ground_m.is_finite()
+            || (p.position_m.coords - est.world_from_body.translation.vector).norm() > 10.0
+        {
+            continue;
+        }
+        let true_point = truth * est.world_from_body.inverse() * p.position_m;
+        let true_h = true_point.z - sim.world.ground_height_at(true_point.x, true_point.y);
+        n += 1;
+        if true_h < 0.05 {
+            ground_n += 1;
+            ground_sq += p.height_above_ground_m.powi(2);
+            false_obst += usize::from(p.height_above_ground_m > 0.3);
+        } else if true_h >= 0.3 {
+            rock_n += 1;
+            rock_hit += usize::from(p.height_above_ground_m > 0.15);
+        }
+    }
+    let share = |a: usize, b: usize| {
+        if b == 0 {
+            f64::NAN
+        } else {
+            a as f64 / b as f64
+        }
+    };
+    (
+        n,
+        (ground_sq / ground_n.max(1) as f64).sqrt(),
+        share(rock_hit, rock_n),
+        share(false_obst, ground_n),
+    )
+}
+
+/// Metrics of `run` against the truth of `sim`.
+pub fn evaluate_traverse(run: &TraverseRun, sim: &SimulatedTraverse) -> Option<EvalReport> {
+    let mut report = evaluate(run, &sim.truth_world_from_body)?;
+    let (n, rms, rock, false_obst) = cloud_heights(run, sim);
+    report.cloud_points_checked = n;
+    report.cloud_ground_rms_m = rms;
+    report.cloud_rock_detected = rock;
+    report.cloud_false_obstacles = false_obst;
+    Some(report)
+}
+
+/// Trajectory metrics of `run` against `truth` (cloud fields NaN; see [`evaluate_traverse`]).
 pub fn evaluate(run: &TraverseRun, truth: &[Isometry3<f64>]) -> Option<EvalReport> {
     let n = run.outputs.len().min(truth.len());
     if n < 12 {
@@ -216,6 +282,10 @@ pub fn evaluate(run: &TraverseRun, truth: &[Isometry3<f64>]) -> Option<EvalRepor
             .filter(|o| o.status == VoStatus::Propagated)
             .count(),
         keyframes: run.outputs[..n].iter().filter(|o| o.is_keyframe).count(),
+        cloud_points_checked: 0,
+        cloud_ground_rms_m: f64::NAN,
+        cloud_rock_detected: f64::NAN,
+        cloud_false_obstacles: f64::NAN,
         p50_ms: quantile(&times, 0.5) / 1e3,
         p99_ms: quantile(&times, 0.99) / 1e3,
         max_ms: times.last().copied().unwrap_or(f64::NAN) / 1e3,
@@ -247,6 +317,14 @@ impl std::fmt::Display for EvalReport {
             self.rpe_frame_m,
             self.rpe_frame_rad.to_degrees()
         )?;
+        writeln!(
+            f,
+            "  cloud (≤ 10 m, {} points): ground height RMS {:.3} m | rock tops (≥ 0.3 m) seen > 0.15 m: {:.0} % | false obstacles (> 0.3 m): {:.1} %",
+            self.cloud_points_checked,
+            self.cloud_ground_rms_m,
+            100.0 * self.cloud_rock_detected,
+            100.0 * self.cloud_false_obstacles
+        )?;
         write!(
             f,
             "  time per stereo frame: p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
@@ -260,7 +338,7 @@ impl std::fmt::Display for EvalReport {
 pub fn run(options: &EvalOptions) -> Result<EvalReport, EvalError> {
     let sim = simulate_traverse(&options.traverse)?;
     let run = run_traverse(&sim, &options.vo)?;
-    let report = evaluate(&run, &sim.truth_world_from_body).ok_or(EvalError::TooFewFrames)?;
+    let report = evaluate_traverse(&run, &sim).ok_or(EvalError::TooFewFrames)?;
     if let Some(dir) = &options.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| EvalError::OutDir {
             path: dir.display().to_string(),

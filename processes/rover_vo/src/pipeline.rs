@@ -416,7 +416,12 @@ impl RoverVo {
                 output.is_keyframe = true;
                 if was_empty {
                     output.status = VoStatus::Initialized;
-                    output.confidence = output.confidence.max(0.5);
+                    if self.next_id == added as u32 {
+                        // First map, at the known start pose: trusted. After a loss the
+                        // position is still the held one, so confidence stays low until the
+                        // next frame is tracked.
+                        output.confidence = output.confidence.max(0.5);
+                    }
                 }
                 self.build_cloud();
             }

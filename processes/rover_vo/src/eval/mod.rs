@@ -70,6 +70,8 @@ pub struct TraverseRun {
     pub outputs: Vec<VoOutput>,
     /// Wall time of each `process_frame`, microseconds.
     pub frame_time_us: Vec<f64>,
+    /// Thread CPU time of each `process_frame`, microseconds.
+    pub frame_cpu_us: Vec<f64>,
     /// Keyframe clouds' points in total.
     pub cloud_points: usize,
     /// Every keyframe cloud point with the frame it was published at.
@@ -92,6 +94,7 @@ pub fn run_traverse(
     let mut run = TraverseRun {
         outputs: Vec::with_capacity(sim.left.len()),
         frame_time_us: Vec::with_capacity(sim.left.len()),
+        frame_cpu_us: Vec::with_capacity(sim.left.len()),
         cloud_points: 0,
         clouds: Vec::new(),
     };
@@ -120,9 +123,12 @@ pub fn run_traverse(
             ));
             started = true;
         }
+        let cpu0 = crate::bench::thread_cpu_time_s();
         let t0 = Instant::now();
         let out = vo.process_frame(&frame);
         run.frame_time_us.push(t0.elapsed().as_secs_f64() * 1e6);
+        run.frame_cpu_us
+            .push((crate::bench::thread_cpu_time_s() - cpu0) * 1e6);
         if out.is_keyframe {
             run.cloud_points += vo.cloud().len();
             run.clouds.extend(vo.cloud().iter().map(|p| (k, *p)));

@@ -10,6 +10,15 @@ fn error_along_traverse() {
     if let Ok(n) = std::env::var("FRAMES") {
         cfg.max_frames = n.parse().ok();
     }
+    if let Ok(p) = std::env::var("WAYPOINTS") {
+        cfg.waypoints_xy_m = p
+            .split(';')
+            .map(|p| {
+                let v: Vec<f64> = p.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+                [v[0], v[1]]
+            })
+            .collect();
+    }
     let sim = simulate_traverse(&cfg).unwrap();
     println!("min rock clearance {:.2} m", sim.min_rock_clearance_m);
     let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();

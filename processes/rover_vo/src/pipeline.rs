@@ -1,0 +1,706 @@
+//! The rover stereo VO pipeline, one call per stereo frame ([`RoverVo::process_frame`]).
+//!
+//! Per frame: build the left pyramid; KLT-track the map features from the previous left image
+//! (initial guesses from the IMU-predicted pose); stereo-match the tracked features in the
+//! current pair; RANSAC (2-point with IMU roll/pitch, else 3-point) + Gauss–Newton on the
+//! reprojection error of the **world-frame** map points (frame-to-map, so errors do not
+//! accumulate between keyframes). At a keyframe (too few tracks, or enough motion since the
+//! last one) new corners are detected, stereo-triangulated from the current pose and added to
+//! the map, and a world-frame cloud with heights above the local ground is produced.
+//!
+//! When a frame cannot be trusted (textureless view, stereo pair that disagrees, too few
+//! inliers), the pose is propagated: attitude from the IMU (relative to the last good frame),
+//! position held, confidence < 0.5; the map is rebuilt from the held pose as soon as the
+//! stereo pair gives enough points again.
+//!
+//! Buffers are allocated in [`RoverVo::new`]; `process_frame` does not allocate.
+
+use crate::config::RoverVoConfig;
+use crate::ground::{GroundModel, LocalGround};
+use crate::motion::{Correspondence, Intrinsics, MotionEstimator, Tilt};
+use crate::stereo::{StereoMatcher, StereoParams};
+use hopnav_vision::corners::{Corner, CornerConfig, CornerDetector, CornerError};
+use hopnav_vision::image::ImageView;
+use hopnav_vision::klt::{KltConfig, KltError, KltTracker, TrackStatus};
+use hopnav_vision::pyramid::{Pyramid, PyramidConfig, PyramidError};
+use nalgebra::{Isometry3, Point2, Point3, UnitQuaternion, Vector3};
+
+/// Error creating the pipeline.
+#[derive(Debug, thiserror::Error)]
+pub enum VoError {
+    /// The configuration is invalid.
+    #[error(transparent)]
+    Config(#[from] crate::config::ConfigError),
+    /// The stereo geometry is invalid.
+    #[error(transparent)]
+    Stereo(#[from] crate::stereo::StereoError),
+    /// The pyramid could not be created (image too small).
+    #[error(transparent)]
+    Pyramid(#[from] PyramidError),
+    /// The tracker could not be created.
+    #[error(transparent)]
+    Klt(#[from] KltError),
+    /// The corner detector could not be created.
+    #[error(transparent)]
+    Corners(#[from] CornerError),
+}
+
+/// Stereo rig geometry (from the image header).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StereoRig {
+    /// View width, pixels.
+    pub width_px: u32,
+    /// View height, pixels.
+    pub height_px: u32,
+    /// Intrinsics of both (rectified) views.
+    pub intrinsics: Intrinsics,
+    /// Baseline, metres; the right camera is along the left camera's +x.
+    pub baseline_m: f64,
+    /// Left camera on the rover body.
+    pub body_from_camera: Isometry3<f64>,
+}
+
+/// One stereo frame.
+#[derive(Debug, Clone, Copy)]
+pub struct StereoFrame<'a> {
+    /// Left view.
+    pub left: ImageView<'a>,
+    /// Right view.
+    pub right: ImageView<'a>,
+    /// IMU `world_from_body` attitude, if a sample arrived.
+    pub imu_attitude: Option<UnitQuaternion<f64>>,
+}
+
+/// What the pose of a frame is based on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VoStatus {
+    /// Vision estimate from tracked map points.
+    Tracking,
+    /// Map (re)built at this frame from the stereo pair; pose kept.
+    Initialized,
+    /// No trustworthy vision: attitude from the IMU, position held.
+    Propagated,
+}
+
+/// Why a frame's vision estimate was not used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rejection {
+    /// The left image could not be processed.
+    BadImage,
+    /// No map yet (start, or after a loss).
+    NoMap,
+    /// Too few tracked features.
+    TooFewTracks,
+    /// RANSAC failed.
+    Motion(crate::motion::MotionError),
+    /// Too few inliers.
+    FewInliers,
+    /// Too small an inlier share of the tracks.
+    LowInlierRatio,
+    /// The estimated step is implausibly large.
+    ImplausibleStep,
+}
+
+/// Result of one frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VoOutput {
+    /// Why the vision estimate was not used (`None`: it was).
+    pub rejection: Option<Rejection>,
+    /// Estimated pose.
+    pub world_from_body: Isometry3<f64>,
+    /// 0–1; below 0.5 the pose is propagated.
+    pub confidence: f64,
+    /// What the pose is based on.
+    pub status: VoStatus,
+    /// Features tracked into this frame.
+    pub tracked_features: usize,
+    /// RANSAC inliers.
+    pub inliers: usize,
+    /// Whether this frame is a keyframe (a cloud is available in [`RoverVo::cloud`]).
+    pub is_keyframe: bool,
+}
+
+/// A world-frame cloud point of a keyframe.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CloudPoint {
+    /// World position, metres.
+    pub position_m: Point3<f64>,
+    /// Height above the local ground, metres (`NaN` if unknown).
+    pub height_above_ground_m: f64,
+    /// Depth σ when triangulated, metres.
+    pub depth_sigma_m: f64,
+    /// Track id.
+    pub track_id: u32,
+}
+
+/// The stereo VO.
+pub struct RoverVo {
+    config: RoverVoConfig,
+    rig: StereoRig,
+    stereo: StereoMatcher,
+    pyr_prev: Pyramid,
+    pyr_cur: Pyramid,
+    klt: KltTracker,
+    detector: CornerDetector,
+    motion: MotionEstimator,
+    ground: LocalGround,
+    // Map: parallel arrays, one entry per track.
+    track_px: Vec<Point2<f32>>,
+    track_world: Vec<Point3<f64>>,
+    track_sigma_m: Vec<f64>,
+    track_id: Vec<u32>,
+    // Scratch.
+    next_px: Vec<Point2<f32>>,
+    status: Vec<TrackStatus>,
+    corrs: Vec<Correspondence>,
+    corners: Vec<Corner>,
+    cloud: Vec<CloudPoint>,
+    cloud_points: Vec<Point3<f64>>,
+    heights: Vec<f64>,
+    // State.
+    world_from_body: Isometry3<f64>,
+    last_motion: Isometry3<f64>,
+    keyframe_pose: Isometry3<f64>,
+    imu_prev: Option<UnitQuaternion<f64>>,
+    next_id: u32,
+    have_prev: bool,
+}
+
+impl RoverVo {
+    /// A pipeline starting at `world_from_body`.
+    pub fn new(
+        config: RoverVoConfig,
+        rig: StereoRig,
+        world_from_body: Isometry3<f64>,
+    ) -> Result<Self, VoError> {
+        config.validate()?;
+        let (w, h) = (rig.width_px as usize, rig.height_px as usize);
+        let k = rig.intrinsics;
+        let stereo = StereoMatcher::new(
+            rig.width_px,
+            rig.height_px,
+            StereoParams {
+                fx_px: k.fx_px,
+                fy_px: k.fy_px,
+                cx_px: k.cx_px,
+                cy_px: k.cy_px,
+                baseline_m: rig.baseline_m,
+                min_disparity_px: config.min_disparity_px,
+                max_disparity_px: config.max_disparity_px,
+                patch_radius_px: config.stereo_patch_radius_px,
+                min_zncc: config.min_zncc,
+                left_right_max_px: config.left_right_max_px,
+                disparity_sigma_px: config.disparity_sigma_px,
+                max_depth_m: config.max_depth_m,
+                min_patch_std: 2.0,
+            },
+        )?;
+        let pyr = PyramidConfig {
+            levels: 3,
+            border_px: 12,
+        };
+        let klt = KltConfig {
+            window_radius_px: 5,
+            ..KltConfig::default()
+        };
+        let corners = CornerConfig {
+            max_features: config.max_features,
+            grid_cols: 8,
+            grid_rows: 6,
+            min_distance_px: 7.0,
+            border_px: 10,
+            fill_leftover_budget: true,
+            ..CornerConfig::default()
+        };
+        let n = config.max_features;
+        Ok(Self {
+            stereo,
+            pyr_prev: Pyramid::new(w, h, pyr)?,
+            pyr_cur: Pyramid::new(w, h, pyr)?,
+            klt: KltTracker::new(klt, n)?,
+            detector: CornerDetector::new(w, h, corners)?,
+            motion: MotionEstimator::new(config.reprojection_threshold_px, n),
+            ground: LocalGround::new(n),
+            track_px: Vec::with_capacity(n),
+            track_world: Vec::with_capacity(n),
+            track_sigma_m: Vec::with_capacity(n),
+            track_id: Vec::with_capacity(n),
+            next_px: Vec::with_capacity(n),
+            status: Vec::with_capacity(n),
+            corrs: Vec::with_capacity(n),
+            corners: Vec::with_capacity(n),
+            cloud: Vec::with_capacity(n),
+            cloud_points: Vec::with_capacity(n),
+            heights: Vec::with_capacity(n),
+            world_from_body,
+            last_motion: Isometry3::identity(),
+            keyframe_pose: world_from_body,
+            imu_prev: None,
+            next_id: 0,
+            have_prev: false,
+            config,
+            rig,
+        })
+    }
+
+    /// The rig this pipeline was built for.
+    pub fn rig(&self) -> &StereoRig {
+        &self.rig
+    }
+
+    /// The current pose estimate.
+    pub fn world_from_body(&self) -> Isometry3<f64> {
+        self.world_from_body
+    }
+
+    /// Moves the estimate to `world_from_body` and drops the map (e.g. a known start pose).
+    pub fn reset(&mut self, world_from_body: Isometry3<f64>) {
+        self.world_from_body = world_from_body;
+        self.keyframe_pose = world_from_body;
+        self.last_motion = Isometry3::identity();
+        self.clear_tracks();
+        self.have_prev = false;
+    }
+
+    /// The cloud of the last keyframe.
+    pub fn cloud(&self) -> &[CloudPoint] {
+        &self.cloud
+    }
+
+    /// Height of the body origin above the ground plane seen by this stereo pair, metres,
+    /// with the body leveled by `tilt` (`None` if too few ground points).
+    pub fn body_height_above_ground_m(
+        &mut self,
+        frame: &StereoFrame<'_>,
+        tilt: Tilt,
+    ) -> Option<f64> {
+        self.pyr_cur.build(&frame.left).ok()?;
+        let level = self.pyr_cur.level(0)?;
+        self.detector.detect(level, &[], &mut self.corners).ok()?;
+        self.cloud_points.clear();
+        for c in &self.corners {
+            if let Ok(p) =
+                self.stereo
+                    .match_point(&frame.left, &frame.right, c.position_px.x, c.position_px.y)
+            {
+                let body = self.rig.body_from_camera * p.point_camera_m;
+                self.cloud_points.push(tilt.leveling * body);
+            }
+        }
+        if self.cloud_points.len() < 20 {
+            return None;
+        }
+        let plane = GroundModel::fit(
+            &self.cloud_points,
+            self.config.ground_keep_fraction,
+            &mut self.heights,
+        )?;
+        Some(-plane.height_at(0.0, 0.0))
+    }
+
+    fn clear_tracks(&mut self) {
+        self.track_px.clear();
+        self.track_world.clear();
+        self.track_sigma_m.clear();
+        self.track_id.clear();
+    }
+
+    /// Processes one stereo frame.
+    pub fn process_frame(&mut self, frame: &StereoFrame<'_>) -> VoOutput {
+        let imu = frame
+            .imu_attitude
+            .filter(|q| q.coords.iter().all(|v| v.is_finite()));
+        // Prediction: IMU relative rotation (or last motion), constant velocity translation.
+        let delta_rotation = match (self.imu_prev, imu) {
+            (Some(prev), Some(now)) => prev.inverse() * now,
+            _ => self.last_motion.rotation,
+        };
+        if imu.is_some() {
+            self.imu_prev = imu;
+        }
+        let mut predicted = self.world_from_body;
+        predicted.rotation = self.world_from_body.rotation * delta_rotation;
+        predicted.translation.vector += self.last_motion.translation.vector;
+        let tilt = if self.config.use_imu_tilt {
+            let sigma = self.config.imu_tilt_sigma_rad;
+            imu.map(|q| Tilt {
+                prior_sigma_rad: (sigma > 0.0).then_some(sigma),
+                ..Tilt::from_attitude(&q)
+            })
+        } else {
+            None
+        };
+        let held = Isometry3::from_parts(self.world_from_body.translation, predicted.rotation);
+
+        if self.pyr_cur.build(&frame.left).is_err() {
+            let mut out = self.propagate(held, 0);
+            out.rejection = Some(Rejection::BadImage);
+            return out;
+        }
+        let tracked = self.track(&predicted);
+        self.stereo_tracks(frame, &predicted);
+        let estimate = if self.track_px.is_empty() {
+            Err(Rejection::NoMap)
+        } else if self.corrs.len() < self.config.min_inliers {
+            Err(Rejection::TooFewTracks)
+        } else {
+            self.motion
+                .estimate(
+                    &self.corrs,
+                    &self.rig.body_from_camera,
+                    &self.rig.intrinsics,
+                    tilt,
+                )
+                .map_err(Rejection::Motion)
+        };
+        let accepted = estimate.and_then(|m| {
+            let step_m = (m.world_from_body.translation.vector
+                - self.world_from_body.translation.vector)
+                .norm();
+            if m.inliers < self.config.min_inliers {
+                Err(Rejection::FewInliers)
+            } else if (m.inliers as f64) < self.config.min_inlier_ratio * tracked as f64 {
+                Err(Rejection::LowInlierRatio)
+            } else if step_m >= 2.0 {
+                Err(Rejection::ImplausibleStep)
+            } else {
+                Ok(m)
+            }
+        });
+        let mut output = match accepted {
+            Ok(m) => {
+                self.last_motion = self.world_from_body.inverse() * m.world_from_body;
+                self.world_from_body = m.world_from_body;
+                self.keep_inliers();
+                VoOutput {
+                    rejection: None,
+                    world_from_body: m.world_from_body,
+                    confidence: (0.5
+                        + 0.5
+                            * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
+                    .min(1.0),
+                    status: VoStatus::Tracking,
+                    tracked_features: tracked,
+                    inliers: m.inliers,
+                    is_keyframe: false,
+                }
+            }
+            Err(rejection) => {
+                // Lost (or never had a map): drop the map, hold the position.
+                let had_map = !self.track_px.is_empty();
+                self.clear_tracks();
+                self.world_from_body = held;
+                self.last_motion = Isometry3::identity();
+                let mut out = self.propagate(held, tracked);
+                out.rejection = Some(rejection);
+                out.status = if had_map {
+                    VoStatus::Propagated
+                } else {
+                    out.status
+                };
+                out
+            }
+        };
+        let moved = self.keyframe_pose.inverse() * self.world_from_body;
+        let need_keyframe = self.track_px.len() < self.config.keyframe_min_tracks
+            || moved.translation.vector.norm() > self.config.keyframe_max_translation_m
+            || moved.rotation.angle() > self.config.keyframe_max_rotation_rad;
+        if need_keyframe {
+            let was_empty = self.track_px.is_empty();
+            let added = self.add_keyframe_points(frame);
+            if was_empty && self.track_px.len() < self.config.min_inliers {
+                // Not enough texture to (re)build the map: stay propagated.
+                self.clear_tracks();
+            } else if added > 0 || !was_empty {
+                self.keyframe_pose = self.world_from_body;
+                output.is_keyframe = true;
+                if was_empty {
+                    output.status = VoStatus::Initialized;
+                    if self.next_id == added as u32 {
+                        // First map, at the known start pose: trusted. After a loss the
+                        // position is still the held one, so confidence stays low until the
+                        // next frame is tracked.
+                        output.confidence = output.confidence.max(0.5);
+                    }
+                }
+                self.build_cloud();
+            }
+        }
+        std::mem::swap(&mut self.pyr_prev, &mut self.pyr_cur);
+        self.have_prev = true;
+        output.world_from_body = self.world_from_body;
+        output
+    }
+
+    fn propagate(&mut self, held: Isometry3<f64>, tracked: usize) -> VoOutput {
+        self.world_from_body = held;
+        VoOutput {
+            rejection: None,
+            world_from_body: held,
+            confidence: 0.2,
+            status: VoStatus::Propagated,
+            tracked_features: tracked,
+            inliers: 0,
+            is_keyframe: false,
+        }
+    }
+
+    /// KLT from the previous left image; drops lost tracks. Returns the tracked count.
+    fn track(&mut self, predicted: &Isometry3<f64>) -> usize {
+        if !self.have_prev || self.track_px.is_empty() {
+            self.clear_tracks();
+            return 0;
+        }
+        let camera_from_world = (predicted * self.rig.body_from_camera).inverse();
+        self.next_px.clear();
+        for (px, x) in self.track_px.iter().zip(&self.track_world) {
+            let guess = self
+                .rig
+                .intrinsics
+                .project(&(camera_from_world * x))
+                .map_or(*px, |p| Point2::new(p.x as f32, p.y as f32));
+            self.next_px.push(guess);
+        }
+        self.status.clear();
+        self.status
+            .resize(self.track_px.len(), TrackStatus::InvalidInput);
+        if self
+            .klt
+            .track(
+                &self.pyr_prev,
+                &self.pyr_cur,
+                &self.track_px,
+                &mut self.next_px,
+                &mut self.status,
+                true,
+            )
+            .is_err()
+        {
+            self.clear_tracks();
+            return 0;
+        }
+        let mut keep = 0;
+        for i in 0..self.track_px.len() {
+            if self.status[i] == TrackStatus::Tracked {
+                self.track_px[keep] = self.next_px[i];
+                self.track_world[keep] = self.track_world[i];
+                self.track_sigma_m[keep] = self.track_sigma_m[i];
+                self.track_id[keep] = self.track_id[i];
+                keep += 1;
+            }
+        }
+        self.track_px.truncate(keep);
+        self.track_world.truncate(keep);
+        self.track_sigma_m.truncate(keep);
+        self.track_id.truncate(keep);
+        keep
+    }
+
+    /// Builds the correspondences of the tracks, with the current stereo points (searched
+    /// around the disparity the predicted pose implies).
+    fn stereo_tracks(&mut self, frame: &StereoFrame<'_>, predicted: &Isometry3<f64>) {
+        self.corrs.clear();
+        let camera_from_world = (predicted * self.rig.body_from_camera).inverse();
+        let fb = self.rig.intrinsics.fx_px * self.rig.baseline_m;
+        for (px, x) in self.track_px.iter().zip(&self.track_world) {
+            let z_m = (camera_from_world * x).z;
+            let range = (z_m > 0.1).then(|| {
+                let d = fb / z_m;
+                let half = 3.0 + 0.3 * d;
+                (d - half, d + half)
+            });
+            let point_camera_m = self
+                .stereo
+                .match_point_in_range(&frame.left, &frame.right, px.x, px.y, range)
+                .ok()
+                .map(|p| p.point_camera_m);
+            self.corrs.push(Correspondence {
+                point_world_m: *x,
+                pixel: Point2::new(f64::from(px.x), f64::from(px.y)),
+                point_camera_m,
+            });
+        }
+    }
+
+    /// Keeps only the tracks that were motion inliers.
+    fn keep_inliers(&mut self) {
+        let mut keep = 0;
+        for i in 0..self.track_px.len() {
+            if self.motion.is_inlier(i) {
+                self.track_px[keep] = self.track_px[i];
+                self.track_world[keep] = self.track_world[i];
+                self.track_sigma_m[keep] = self.track_sigma_m[i];
+                self.track_id[keep] = self.track_id[i];
+                self.corrs[keep] = self.corrs[i];
+                keep += 1;
+            }
+        }
+        self.track_px.truncate(keep);
+        self.track_world.truncate(keep);
+        self.track_sigma_m.truncate(keep);
+        self.track_id.truncate(keep);
+        self.corrs.truncate(keep);
+    }
+
+    /// Detects corners away from the tracks, triangulates them from the current pose and adds
+    /// them to the map. Returns how many were added.
+    fn add_keyframe_points(&mut self, frame: &StereoFrame<'_>) -> usize {
+        let Some(level) = self.pyr_cur.level(0) else {
+            return 0;
+        };
+        if self
+            .detector
+            .detect(level, &self.track_px, &mut self.corners)
+            .is_err()
+        {
+            return 0;
+        }
+        let world_from_camera = self.world_from_body * self.rig.body_from_camera;
+        let mut added = 0;
+        for c in &self.corners {
+            if self.track_px.len() >= self.config.max_features {
+                break;
+            }
+            let Ok(p) = self.stereo.match_point(
+                &frame.left,
+                &frame.right,
+                c.position_px.x,
+                c.position_px.y,
+            ) else {
+                continue;
+            };
+            self.track_px.push(c.position_px);
+            self.track_world.push(world_from_camera * p.point_camera_m);
+            self.track_sigma_m.push(p.depth_sigma_m);
+            self.track_id.push(self.next_id);
+            self.next_id = self.next_id.wrapping_add(1);
+            added += 1;
+        }
+        added
+    }
+
+    /// The keyframe cloud: every map point, with its height above the local ground.
+    fn build_cloud(&mut self) {
+        self.cloud_points.clear();
+        self.cloud_points.extend_from_slice(&self.track_world);
+        self.ground.heights(
+            &self.cloud_points,
+            self.config.ground_radius_m,
+            self.config.ground_keep_fraction,
+            &mut self.heights,
+        );
+        self.cloud.clear();
+        for i in 0..self.track_world.len() {
+            self.cloud.push(CloudPoint {
+                position_m: self.track_world[i],
+                height_above_ground_m: self.heights.get(i).copied().unwrap_or(f64::NAN),
+                depth_sigma_m: self.track_sigma_m[i],
+                track_id: self.track_id[i],
+            });
+        }
+    }
+}
+
+/// `world_from_body` at the start: attitude from the IMU, position from the known start
+/// `(x, y)` and `z = ground_z_m + body_height_m`.
+pub fn start_pose(
+    imu_attitude: UnitQuaternion<f64>,
+    start_xy_m: [f64; 2],
+    ground_z_m: f64,
+    body_height_m: f64,
+) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Vector3::new(start_xy_m[0], start_xy_m[1], ground_z_m + body_height_m).into(),
+        imu_attitude,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::{evaluate, run_traverse};
+    use crate::simulate::{TraverseConfig, simulate_traverse};
+
+    fn short_traverse(blackout: Vec<usize>) -> TraverseConfig {
+        let mut cfg = TraverseConfig::default();
+        cfg.world.terrain.size_x_m = 32.0;
+        cfg.world.terrain.size_y_m = 32.0;
+        cfg.waypoints_xy_m = vec![[-12.0, -4.0], [0.0, -4.0], [0.0, 6.0]];
+        cfg.max_frames = Some(90);
+        cfg.blackout_frames = blackout;
+        cfg
+    }
+
+    #[test]
+    fn follows_a_rendered_traverse_with_known_motion() {
+        let sim = simulate_traverse(&short_traverse(Vec::new())).unwrap();
+        let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
+        let report = evaluate(&run, &sim.truth_world_from_body).unwrap();
+        assert_eq!(report.propagated_frames, 0, "{report}");
+        assert!(
+            report.final_error_m < 0.05 + 0.02 * report.distance_m,
+            "{report}"
+        );
+        assert!(run.cloud_points > 100);
+    }
+
+    #[test]
+    fn textureless_frames_propagate_with_low_confidence_and_recover() {
+        let sim = simulate_traverse(&short_traverse((30..36).collect())).unwrap();
+        let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
+        for k in 30..36 {
+            let o = &run.outputs[k];
+            assert!(
+                o.confidence < 0.5 && o.status == VoStatus::Propagated,
+                "frame {k}: {o:?}"
+            );
+            // Position held, attitude from the IMU.
+            let err = o
+                .world_from_body
+                .rotation
+                .angle_to(&sim.truth_world_from_body[k].rotation);
+            assert!(err < 0.02, "frame {k}: rotation error {err}");
+        }
+        assert!(
+            run.outputs[40..].iter().all(|o| o.confidence >= 0.5),
+            "no recovery"
+        );
+        let last = run.outputs.len() - 1;
+        let err = (run.outputs[last].world_from_body.translation.vector
+            - sim.truth_world_from_body[last].translation.vector)
+            .norm();
+        // Six held frames lose at most their 0.3 m of motion.
+        assert!(err < 0.45, "final error {err}");
+    }
+
+    #[test]
+    fn a_disagreeing_stereo_pair_does_not_diverge() {
+        let mut sim = simulate_traverse(&short_traverse(Vec::new())).unwrap();
+        // Frames 20..23: the right view shows something else (a much later left view).
+        for k in 20..23 {
+            sim.right[k] = sim.left[k + 60].clone();
+        }
+        let run = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
+        for k in 20..23 {
+            let o = &run.outputs[k];
+            let err = (o.world_from_body.translation.vector
+                - sim.truth_world_from_body[k].translation.vector)
+                .norm();
+            assert!(err < 0.2, "frame {k}: error {err}, {o:?}");
+        }
+        let report = evaluate(&run, &sim.truth_world_from_body).unwrap();
+        assert!(report.final_error_m < 0.3, "{report}");
+    }
+
+    #[test]
+    fn deterministic() {
+        let sim = simulate_traverse(&TraverseConfig {
+            max_frames: Some(30),
+            ..short_traverse(Vec::new())
+        })
+        .unwrap();
+        let a = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
+        let b = run_traverse(&sim, &RoverVoConfig::default()).unwrap();
+        assert_eq!(a.outputs, b.outputs);
+    }
+}

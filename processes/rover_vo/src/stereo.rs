@@ -1,0 +1,544 @@
+//! Sparse stereo matching on a rectified pair: for a left feature, search the same row of the
+//! right view with zero-mean normalized cross-correlation (ZNCC) on a square patch, refine the
+//! disparity with a parabola through the three best scores, confirm it with a right-to-left
+//! search (left–right consistency), and triangulate `Z = f·b / d` with `σ_Z = Z²·σ_d / (f·b)`.
+//!
+//! Rows are interpolated at the feature's sub-pixel `y` once per feature into preallocated
+//! bands; nothing is allocated per call.
+//!
+//! ```
+//! use hopnav_rover_vo::stereo::{StereoMatcher, StereoParams};
+//! use hopnav_vision::image::ImageView;
+//! let (w, h) = (64, 32);
+//! let tex = |x: i32, y: i32| ((x * 37 + y * 91) % 97 * 2 + (x * x + 3 * y * y) % 13) as u8;
+//! let left: Vec<u8> = (0..w * h).map(|i| tex((i % w) as i32, (i / w) as i32)).collect();
+//! let right: Vec<u8> = (0..w * h).map(|i| tex((i % w) as i32 + 5, (i / w) as i32)).collect();
+//! let params = StereoParams { fx_px: 100.0, cx_px: 32.0, cy_px: 16.0, baseline_m: 0.2, ..StereoParams::default() };
+//! let mut m = StereoMatcher::new(w, h, params).unwrap();
+//! let l = ImageView::packed(&left, w as usize, h as usize).unwrap();
+//! let r = ImageView::packed(&right, w as usize, h as usize).unwrap();
+//! let p = m.match_point(&l, &r, 40.0, 16.0).unwrap();
+//! assert!((p.disparity_px - 5.0).abs() < 0.2);
+//! ```
+
+use hopnav_vision::image::ImageView;
+use nalgebra::Point3;
+
+/// Geometry and matching settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StereoParams {
+    /// Focal length, pixels (both views, rectified).
+    pub fx_px: f64,
+    /// Focal length along y, pixels.
+    pub fy_px: f64,
+    /// Principal point x, pixels.
+    pub cx_px: f64,
+    /// Principal point y, pixels.
+    pub cy_px: f64,
+    /// Baseline, metres (right camera along left camera +x).
+    pub baseline_m: f64,
+    /// Smallest disparity accepted, pixels.
+    pub min_disparity_px: f64,
+    /// Largest disparity searched, pixels.
+    pub max_disparity_px: f64,
+    /// Patch half size, pixels.
+    pub patch_radius_px: usize,
+    /// Minimum ZNCC of the best match.
+    pub min_zncc: f64,
+    /// Left–right consistency limit, pixels.
+    pub left_right_max_px: f64,
+    /// Disparity noise σ, pixels.
+    pub disparity_sigma_px: f64,
+    /// Largest depth returned, metres.
+    pub max_depth_m: f64,
+    /// Minimum standard deviation of the patch intensity (texture), grey levels.
+    pub min_patch_std: f64,
+}
+
+impl Default for StereoParams {
+    fn default() -> Self {
+        Self {
+            fx_px: 277.0,
+            fy_px: 277.0,
+            cx_px: 160.0,
+            cy_px: 120.0,
+            baseline_m: 0.2,
+            min_disparity_px: 1.5,
+            max_disparity_px: 64.0,
+            patch_radius_px: 3,
+            min_zncc: 0.8,
+            left_right_max_px: 1.0,
+            disparity_sigma_px: 0.2,
+            max_depth_m: 30.0,
+            min_patch_std: 2.0,
+        }
+    }
+}
+
+/// Error creating a [`StereoMatcher`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StereoError {
+    /// A parameter is out of range.
+    #[error("stereo parameter {name} = {value} is out of range")]
+    BadParameter {
+        /// Which.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+}
+
+/// Why a feature has no stereo match.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoMatch {
+    /// Too close to the border, non-finite position, or images of the wrong size.
+    OutOfBounds,
+    /// The patch is flat.
+    LowTexture,
+    /// The best ZNCC is below the limit.
+    LowScore,
+    /// The right-to-left search lands elsewhere.
+    LeftRightMismatch,
+    /// The disparity is outside the accepted range (too far or too close).
+    BadDisparity,
+}
+
+/// A triangulated stereo match.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StereoPoint {
+    /// Point in the left camera frame, metres.
+    pub point_camera_m: Point3<f64>,
+    /// σ of the depth, metres.
+    pub depth_sigma_m: f64,
+    /// Sub-pixel disparity, pixels.
+    pub disparity_px: f64,
+    /// ZNCC of the match.
+    pub zncc: f64,
+}
+
+/// Row-search ZNCC matcher with preallocated bands.
+#[derive(Debug, Clone)]
+pub struct StereoMatcher {
+    params: StereoParams,
+    width: usize,
+    height: usize,
+    band_left: Vec<f32>,
+    band_right: Vec<f32>,
+    scores: Vec<f32>,
+    template: Vec<f32>,
+    col_sum: Vec<f32>,
+    col_sq: Vec<f32>,
+}
+
+impl StereoMatcher {
+    /// A matcher for `width × height` views.
+    pub fn new(width: u32, height: u32, params: StereoParams) -> Result<Self, StereoError> {
+        let bad = |name, value| Err(StereoError::BadParameter { name, value });
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !positive(params.fx_px) {
+            return bad("fx_px", params.fx_px);
+        }
+        if !positive(params.fy_px) {
+            return bad("fy_px", params.fy_px);
+        }
+        if !positive(params.baseline_m) {
+            return bad("baseline_m", params.baseline_m);
+        }
+        if !(params.cx_px.is_finite() && params.cy_px.is_finite()) {
+            return bad("cx_px", params.cx_px);
+        }
+        if !(positive(params.min_disparity_px)
+            && params.max_disparity_px > params.min_disparity_px + 1.0)
+            || params.max_disparity_px > 1024.0
+        {
+            return bad("max_disparity_px", params.max_disparity_px);
+        }
+        if params.patch_radius_px == 0 || params.patch_radius_px > 7 {
+            return bad("patch_radius_px", params.patch_radius_px as f64);
+        }
+        if !positive(params.disparity_sigma_px) {
+            return bad("disparity_sigma_px", params.disparity_sigma_px);
+        }
+        if !positive(params.max_depth_m) {
+            return bad("max_depth_m", params.max_depth_m);
+        }
+        let (width, height) = (width as usize, height as usize);
+        let rows = 2 * params.patch_radius_px + 1;
+        Ok(Self {
+            params,
+            width,
+            height,
+            band_left: vec![0.0; rows * width],
+            band_right: vec![0.0; rows * width],
+            scores: vec![0.0; params.max_disparity_px.ceil() as usize + 2],
+            template: vec![0.0; rows * rows],
+            col_sum: vec![0.0; width],
+            col_sq: vec![0.0; width],
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &StereoParams {
+        &self.params
+    }
+
+    /// Matches the left feature at `(u_px, v_px)` over the whole disparity range and
+    /// triangulates it in the left camera frame.
+    pub fn match_point(
+        &mut self,
+        left: &ImageView<'_>,
+        right: &ImageView<'_>,
+        u_px: f32,
+        v_px: f32,
+    ) -> Result<StereoPoint, NoMatch> {
+        self.match_point_in_range(left, right, u_px, v_px, None)
+    }
+
+    /// As [`Self::match_point`], searching only disparities in `range_px` (clipped to the
+    /// configured range), e.g. around a prediction.
+    pub fn match_point_in_range(
+        &mut self,
+        left: &ImageView<'_>,
+        right: &ImageView<'_>,
+        u_px: f32,
+        v_px: f32,
+        range_px: Option<(f64, f64)>,
+    ) -> Result<StereoPoint, NoMatch> {
+        let p = self.params;
+        let r = p.patch_radius_px as isize;
+        let (w, h) = (self.width as isize, self.height as isize);
+        if left.width() != self.width
+            || right.width() != self.width
+            || left.height() != self.height
+            || right.height() != self.height
+            || !u_px.is_finite()
+            || !v_px.is_finite()
+        {
+            return Err(NoMatch::OutOfBounds);
+        }
+        let xl = u_px.round() as isize;
+        let y_top = v_px - r as f32;
+        if xl - r < 0 || xl + r >= w || y_top < 0.0 || (v_px + r as f32) as isize + 1 >= h {
+            return Err(NoMatch::OutOfBounds);
+        }
+        // Columns needed: the left patch and every right patch of the search.
+        let (lo_px, hi_px) = match range_px {
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
+                (lo.max(p.min_disparity_px), hi.min(p.max_disparity_px))
+            }
+            _ => (p.min_disparity_px, p.max_disparity_px),
+        };
+        let d_max = (hi_px.ceil() as isize).min(xl - r);
+        let d_min = (lo_px.floor() as isize).max(1) - 1;
+        if d_max < d_min + 2 {
+            return Err(NoMatch::BadDisparity);
+        }
+        let x_lo = (xl - d_max - r).max(0) as usize;
+        let x_hi = (xl + r) as usize;
+        fill_band(
+            left,
+            &mut self.band_left,
+            self.width,
+            y_top,
+            2 * r as usize + 1,
+            x_lo,
+            x_hi,
+        );
+        fill_band(
+            right,
+            &mut self.band_right,
+            self.width,
+            y_top,
+            2 * r as usize + 1,
+            x_lo,
+            x_hi,
+        );
+        let rows = 2 * r as usize + 1;
+        let Some((mean_l, std_l)) =
+            patch_stats(&self.band_left, self.width, rows, xl as usize, r as usize)
+        else {
+            return Err(NoMatch::LowTexture);
+        };
+        if f64::from(std_l) < p.min_patch_std {
+            return Err(NoMatch::LowTexture);
+        }
+        // Forward search: right patch at xl − d. Zero-mean template and per-column sums of the
+        // right band make each candidate one multiply-add per pixel.
+        let side = 2 * r as usize + 1;
+        for k in 0..rows {
+            for c in 0..side {
+                self.template[k * side + c] =
+                    self.band_left[k * self.width + xl as usize - r as usize + c] - mean_l;
+            }
+        }
+        let c_lo = (xl - d_max - r) as usize;
+        let c_hi = (xl - d_min + r) as usize;
+        for x in c_lo..=c_hi {
+            let (mut s1, mut s2) = (0.0f32, 0.0f32);
+            for k in 0..rows {
+                let v = self.band_right[k * self.width + x];
+                s1 += v;
+                s2 += v * v;
+            }
+            self.col_sum[x] = s1;
+            self.col_sq[x] = s2;
+        }
+        let n = (rows * side) as f32;
+        let mut best = (f32::NEG_INFINITY, d_min);
+        for d in d_min..=d_max {
+            let x0 = (xl - d - r) as usize;
+            let (mut sb, mut sb2, mut sab) = (0.0f32, 0.0f32, 0.0f32);
+            for c in 0..side {
+                sb += self.col_sum[x0 + c];
+                sb2 += self.col_sq[x0 + c];
+            }
+            for k in 0..rows {
+                let row = &self.band_right[k * self.width + x0..k * self.width + x0 + side];
+                let t = &self.template[k * side..(k + 1) * side];
+                for (a, b) in t.iter().zip(row) {
+                    sab += a * b;
+                }
+            }
+            let mean_b = sb / n;
+            let var_b = (sb2 / n - mean_b * mean_b).max(0.0);
+            let s = if var_b < 1e-6 {
+                -1.0
+            } else {
+                (sab / n) / (std_l * var_b.sqrt())
+            };
+            self.scores[d as usize] = s;
+            if s > best.0 {
+                best = (s, d);
+            }
+        }
+        let (score, d_best) = best;
+        if f64::from(score) < p.min_zncc {
+            return Err(NoMatch::LowScore);
+        }
+        if d_best <= d_min || d_best >= d_max {
+            return Err(NoMatch::BadDisparity);
+        }
+        let offset = parabola(
+            self.scores[(d_best - 1) as usize],
+            score,
+            self.scores[(d_best + 1) as usize],
+        );
+        let disparity = d_best as f64 + offset;
+        // Left–right check: the right patch at its integer column searched along the left row.
+        let xr = (xl as f64 - disparity).round() as isize;
+        if xr - r < 0 {
+            return Err(NoMatch::OutOfBounds);
+        }
+        let Some((mean_r, std_r)) =
+            patch_stats(&self.band_right, self.width, rows, xr as usize, r as usize)
+        else {
+            return Err(NoMatch::LowTexture);
+        };
+        let mut back = (f32::NEG_INFINITY, 0isize);
+        let mut back_scores = [f32::NEG_INFINITY; 3];
+        let lo = (xl - xr - 2).max(d_min);
+        let hi = (xl - xr + 2).min(w - 1 - r - xr);
+        for d in lo..=hi {
+            let s = zncc(
+                &self.band_right,
+                xr as usize,
+                mean_r,
+                std_r,
+                &self.band_left,
+                (xr + d) as usize,
+                self.width,
+                rows,
+                r as usize,
+            );
+            if s > back.0 {
+                back = (s, d);
+            }
+        }
+        if back.0 == f32::NEG_INFINITY {
+            return Err(NoMatch::LeftRightMismatch);
+        }
+        for (k, slot) in back_scores.iter_mut().enumerate() {
+            let d = back.1 + k as isize - 1;
+            if xr + d + r < w && d >= 0 {
+                *slot = zncc(
+                    &self.band_right,
+                    xr as usize,
+                    mean_r,
+                    std_r,
+                    &self.band_left,
+                    (xr + d) as usize,
+                    self.width,
+                    rows,
+                    r as usize,
+                );
+            }
+        }
+        let back_disp = back.1 as f64 + parabola(back_scores[0], back_scores[1], back_scores[2]);
+        let back_xl = xr as f64 + back_disp;
+        if (back_xl - xl as f64 - 0.0).abs()
+            > p.left_right_max_px + (xr as f64 - (xl as f64 - disparity)).abs()
+        {
+            return Err(NoMatch::LeftRightMismatch);
+        }
+        if disparity < p.min_disparity_px {
+            return Err(NoMatch::BadDisparity);
+        }
+        let fb = p.fx_px * p.baseline_m;
+        let z = fb / disparity;
+        if !(z.is_finite() && z > 0.0 && z <= p.max_depth_m) {
+            return Err(NoMatch::BadDisparity);
+        }
+        let x = (f64::from(u_px) - p.cx_px) / p.fx_px * z;
+        let y = (f64::from(v_px) - p.cy_px) / p.fy_px * z;
+        Ok(StereoPoint {
+            point_camera_m: Point3::new(x, y, z),
+            depth_sigma_m: z * z * p.disparity_sigma_px / fb,
+            disparity_px: disparity,
+            zncc: f64::from(score),
+        })
+    }
+}
+
+/// Interpolates `rows` rows starting at sub-pixel `y_top`, columns `x_lo..=x_hi`.
+fn fill_band(
+    image: &ImageView<'_>,
+    band: &mut [f32],
+    width: usize,
+    y_top: f32,
+    rows: usize,
+    x_lo: usize,
+    x_hi: usize,
+) {
+    let y0 = y_top.floor();
+    let a = y_top - y0;
+    let y0 = y0 as usize;
+    for k in 0..rows {
+        let (Some(r0), Some(r1)) = (image.row(y0 + k), image.row(y0 + k + 1)) else {
+            continue;
+        };
+        let out = &mut band[k * width..(k + 1) * width];
+        for x in x_lo..=x_hi.min(width - 1) {
+            out[x] = f32::from(r0[x]) * (1.0 - a) + f32::from(r1[x]) * a;
+        }
+    }
+}
+
+fn patch_stats(band: &[f32], width: usize, rows: usize, xc: usize, r: usize) -> Option<(f32, f32)> {
+    let n = (rows * (2 * r + 1)) as f32;
+    let (mut s, mut s2) = (0.0f32, 0.0f32);
+    for k in 0..rows {
+        for &v in band.get(k * width + xc - r..=k * width + xc + r)? {
+            s += v;
+            s2 += v * v;
+        }
+    }
+    let mean = s / n;
+    let var = (s2 / n - mean * mean).max(0.0);
+    Some((mean, var.sqrt()))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn zncc(
+    a: &[f32],
+    xa: usize,
+    mean_a: f32,
+    std_a: f32,
+    b: &[f32],
+    xb: usize,
+    width: usize,
+    rows: usize,
+    r: usize,
+) -> f32 {
+    let n = (rows * (2 * r + 1)) as f32;
+    let (mut sb, mut sb2, mut sab) = (0.0f32, 0.0f32, 0.0f32);
+    for k in 0..rows {
+        let ra = &a[k * width + xa - r..=k * width + xa + r];
+        let rb = &b[k * width + xb - r..=k * width + xb + r];
+        for (&va, &vb) in ra.iter().zip(rb) {
+            sb += vb;
+            sb2 += vb * vb;
+            sab += (va - mean_a) * vb;
+        }
+    }
+    let mean_b = sb / n;
+    let var_b = (sb2 / n - mean_b * mean_b).max(0.0);
+    if var_b < 1e-6 || std_a < 1e-6 {
+        return -1.0;
+    }
+    (sab / n) / (std_a * var_b.sqrt())
+}
+
+/// Sub-sample offset of the peak of a parabola through `(−1, a), (0, b), (1, c)`, in [−0.5, 0.5].
+fn parabola(a: f32, b: f32, c: f32) -> f64 {
+    let (a, b, c) = (f64::from(a), f64::from(b), f64::from(c));
+    let denom = a - 2.0 * b + c;
+    if denom.is_nan() || denom >= -1e-9 || !a.is_finite() || !c.is_finite() {
+        return 0.0;
+    }
+    (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Value noise: hashed grid values at a 2.5-px spacing, bilinearly interpolated.
+    pub(crate) fn texture(x: f64, y: f64) -> f64 {
+        let hash = |i: i64, j: i64| {
+            let mut z = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+            z ^= z >> 29;
+            z = z.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z ^= z >> 32;
+            (z % 1000) as f64 / 1000.0
+        };
+        let (gx, gy) = (x / 2.5, y / 2.5);
+        let (i, j) = (gx.floor(), gy.floor());
+        let (a, b) = (gx - i, gy - j);
+        let (i, j) = (i as i64, j as i64);
+        let v = hash(i, j) * (1.0 - a) * (1.0 - b)
+            + hash(i + 1, j) * a * (1.0 - b)
+            + hash(i, j + 1) * (1.0 - a) * b
+            + hash(i + 1, j + 1) * a * b;
+        40.0 + 170.0 * v
+    }
+
+    #[test]
+    fn recovers_subpixel_disparity_and_rejects_flat() {
+        let (w, h) = (160usize, 60usize);
+        for &d in &[3.3f64, 12.75, 40.4] {
+            let left: Vec<u8> = (0..w * h)
+                .map(|i| texture((i % w) as f64, (i / w) as f64) as u8)
+                .collect();
+            let right: Vec<u8> = (0..w * h)
+                .map(|i| texture((i % w) as f64 + d, (i / w) as f64) as u8)
+                .collect();
+            let params = StereoParams {
+                fx_px: 100.0,
+                fy_px: 100.0,
+                cx_px: 80.0,
+                cy_px: 30.0,
+                ..StereoParams::default()
+            };
+            let mut m = StereoMatcher::new(w as u32, h as u32, params).unwrap();
+            let l = ImageView::packed(&left, w, h).unwrap();
+            let r = ImageView::packed(&right, w, h).unwrap();
+            let p = m.match_point(&l, &r, 120.3, 30.6).unwrap();
+            assert!(
+                (p.disparity_px - d).abs() < 0.15,
+                "d {d} got {}",
+                p.disparity_px
+            );
+            assert!((p.point_camera_m.z - 20.0 / d).abs() < 0.1 * 20.0 / d);
+            let flat = vec![100u8; w * h];
+            let f = ImageView::packed(&flat, w, h).unwrap();
+            assert_eq!(m.match_point(&f, &f, 120.0, 30.0), Err(NoMatch::LowTexture));
+            // A right view of unrelated content: no consistent match.
+            let other: Vec<u8> = (0..w * h)
+                .map(|i| texture((i / w) as f64 * 3.0, (i % w) as f64 * 1.7) as u8)
+                .collect();
+            let o = ImageView::packed(&other, w, h).unwrap();
+            assert!(m.match_point(&l, &o, 120.0, 30.0).is_err());
+        }
+    }
+}

@@ -23,6 +23,10 @@ pub const PROCESSES: &[(&str, Entry)] = &[
         "mapper",
         run_process::<hopnav_mapper::process::MapperProcess>,
     ),
+    (
+        "rover_vo",
+        run_process::<hopnav_rover_vo::process::RoverVoProcess>,
+    ),
 ];
 
 /// A process library's config table and its validator.
@@ -47,6 +51,9 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
     }),
     ("mapper", |config| {
         hopnav_mapper::process::mapper_section(config).map(|_| ())
+    }),
+    ("rover_vo", |config| {
+        hopnav_rover_vo::process::rover_vo_section(config).map(|_| ())
     }),
 ];
 

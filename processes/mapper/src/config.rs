@@ -74,7 +74,7 @@ impl Default for MapperConfig {
             origin_y_m: None,
             width_cells: None,
             height_cells: None,
-            traversable_height_m: 0.3,
+            traversable_height_m: 0.2,
             max_feature_height_m: 5.0,
             max_depth_sigma_m: 0.25,
             min_obstacle_support: 3,

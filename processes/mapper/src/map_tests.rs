@@ -141,10 +141,10 @@ fn a_per_frame_cell_limit_only_delays_the_same_map() {
 
 #[test]
 fn low_rock_below_traversable_height_stays_free() {
-    assert!(0.2 < config().traversable_height_m);
+    assert!(0.12 < config().traversable_height_m);
     for measured in [false, true] {
         let mut map = new_map();
-        map.insert_cloud(Robot::Rover, &rock_on_slope(0.2, measured));
+        map.insert_cloud(Robot::Rover, &rock_on_slope(0.12, measured));
         map.update();
         for y in 8..32 {
             for x in 8..32 {

@@ -299,7 +299,7 @@ restart = "on-failure"
 
 [mapper]
 cell_size_m = 0.5
-traversable_height_m = 0.3
+traversable_height_m = 0.2
 max_feature_height_m = 5.0
 max_depth_sigma_m = 0.25
 min_obstacle_support = 3

@@ -14,6 +14,12 @@ pub struct NavigatorConfig {
     pub lookahead_m: f64,
     /// The rover's stereo camera maps reliably out to this range, metres.
     pub sensing_range_m: f64,
+    /// The rover counts as blocked when it moved less than `stall_distance_m` in this long
+    /// while driving; the cell ahead is then marked as an obstacle (a virtual bumper),
+    /// seconds.
+    pub stall_time_s: f64,
+    /// See `stall_time_s`, metres.
+    pub stall_distance_m: f64,
     /// When to ask the jumper to scout (cooperative mode only).
     pub scout: ScoutConfig,
 }
@@ -25,6 +31,8 @@ impl Default for NavigatorConfig {
             cruise_speed_mps: 0.5,
             lookahead_m: 1.5,
             sensing_range_m: 8.0,
+            stall_time_s: 4.0,
+            stall_distance_m: 0.2,
             scout: ScoutConfig::default(),
         }
     }
@@ -63,7 +71,15 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 8] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 10] = [
+            ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
+            (
+                "stall_distance_m",
+                self.stall_distance_m,
+                0.01,
+                10.0,
+                "0.01..=10",
+            ),
             (
                 "goal_tolerance_m",
                 self.goal_tolerance_m,

@@ -67,7 +67,12 @@ pub struct NavigatorCounters {
     pub path_cost: Cost,
     /// Hops requested from the jumper.
     pub scout_requests: u32,
+    /// Times the rover was found blocked and the cell ahead marked as an obstacle.
+    pub blocked_marks: u32,
 }
+
+/// Bumped cells remembered (a bounded list: a mission bumps a handful).
+const MAX_BUMPED_CELLS: usize = 256;
 
 /// The rover's navigator.
 pub struct Navigator {
@@ -79,6 +84,10 @@ pub struct Navigator {
     pending: Vec<CellChange>,
     counters: NavigatorCounters,
     last_request_s: f64,
+    /// Where and when the rover last made progress (stall detection).
+    progress_anchor: Option<([f64; 2], f64)>,
+    /// Cells the rover bumped into: obstacles whatever the mapper says later.
+    bumped: Vec<Cell>,
 }
 
 impl Navigator {
@@ -115,6 +124,8 @@ impl Navigator {
             pending: Vec::with_capacity(1024),
             counters: NavigatorCounters::default(),
             last_request_s: 0.0,
+            progress_anchor: None,
+            bumped: Vec::new(),
         })
     }
 
@@ -143,6 +154,9 @@ impl Navigator {
     pub fn queue_changes(&mut self, changes: impl IntoIterator<Item = CellChange>) -> usize {
         let mut refused = 0;
         for change in changes {
+            if self.bumped.contains(&change.cell) {
+                continue;
+            }
             if self.planner.grid().contains(change.cell) {
                 self.pending.push(change);
             } else {
@@ -168,6 +182,7 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
+        self.check_progress(rover_m, time_s);
         let replanned = self.apply_pending()?;
         if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
@@ -209,6 +224,48 @@ impl Navigator {
             status: MissionStatus::Driving,
             replanned,
         })
+    }
+
+    /// A rover that stopped making progress while driving is against something the map does
+    /// not show (a rock its camera missed): mark the cell ahead, toward the last waypoint, as an
+    /// obstacle so the next search goes around it.
+    fn check_progress(&mut self, rover_m: [f64; 2], time_s: f64) {
+        let Some((anchor_m, since_s)) = self.progress_anchor else {
+            self.progress_anchor = Some((rover_m, time_s));
+            return;
+        };
+        if distance_m(anchor_m, rover_m) > self.config.stall_distance_m {
+            self.progress_anchor = Some((rover_m, time_s));
+            return;
+        }
+        if time_s - since_s < self.config.stall_time_s {
+            return;
+        }
+        self.progress_anchor = Some((rover_m, time_s));
+        let Some(&next) = self.path.get(1) else {
+            return;
+        };
+        let toward_m = self.geometry.center_of(next);
+        let (dx, dy) = (toward_m[0] - rover_m[0], toward_m[1] - rover_m[1]);
+        let length_m = dx.hypot(dy);
+        if length_m < 1e-6 {
+            return;
+        }
+        let reach_m = 0.6 * self.geometry.cell_size_m().max(0.5) / 0.5;
+        let ahead_m = [
+            rover_m[0] + dx / length_m * reach_m,
+            rover_m[1] + dy / length_m * reach_m,
+        ];
+        if let Some(cell) = self.geometry.cell_of(ahead_m)
+            && cell != self.planner.goal()
+        {
+            self.pending
+                .push(CellChange::new(cell, CellState::Obstacle, 0));
+            if self.bumped.len() < MAX_BUMPED_CELLS {
+                self.bumped.push(cell);
+            }
+            self.counters.blocked_marks += 1;
+        }
     }
 
     /// Applies queued changes; true when they changed the cost of the path being followed.

@@ -34,10 +34,20 @@ fn the_default_cooperative_mission_reaches_the_goal() {
     // Both robots mapped: the map holds cells seen by each.
     assert!(mission["mapped_cells"].as_u64().unwrap() > 100, "{mission}");
     // Every process of the graph ran every frame.
-    for name in ["physics", "camera", "jumper_vo", "rover_vo", "mapper", "planner"] {
+    for name in [
+        "physics",
+        "camera",
+        "jumper_vo",
+        "rover_vo",
+        "mapper",
+        "planner",
+    ] {
         let process = process(&report, name);
         assert_eq!(process["restarts"], 0, "{name}");
-        assert!(process["frames_completed"].as_u64().unwrap() > 100, "{name}");
+        assert!(
+            process["frames_completed"].as_u64().unwrap() > 100,
+            "{name}"
+        );
     }
     let figure = report["mission_figure"].as_str().expect("a map figure");
     assert!(std::path::Path::new(figure).exists());
@@ -58,5 +68,8 @@ fn the_rover_only_baseline_keeps_the_jumper_on_the_ground() {
     assert_eq!(mission["mode"], "rover-only");
     assert_eq!(mission["jump_requests"], 0);
     assert_eq!(mission["jumper_hops"], 0);
-    assert!(mission["executed_path_m"].as_f64().unwrap() > 5.0, "{mission}");
+    assert!(
+        mission["executed_path_m"].as_f64().unwrap() > 5.0,
+        "{mission}"
+    );
 }

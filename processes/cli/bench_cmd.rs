@@ -22,6 +22,9 @@ pub enum BenchCommand {
     /// Jumper VO cost per frame (`process_frame`) at 320² with up to 1000 features, over the
     /// rendered Table 1 hop.
     Vo(VoBenchArgs),
+    /// Rover stereo VO cost per 320×240 stereo frame over a rendered traverse (wall and
+    /// thread-CPU p50/p99/max).
+    RoverVo(crate::rover_vo_cmd::RoverVoBenchArgs),
     /// One peer of `bench ipc` (started by it; not for direct use).
     #[command(hide = true)]
     IpcPeer(IpcPeerArgs),
@@ -96,6 +99,7 @@ pub fn run(command: BenchCommand) -> ExitCode {
         BenchCommand::Render(args) => render(args),
         BenchCommand::Physics(args) => physics(args),
         BenchCommand::Vo(args) => vo(args),
+        BenchCommand::RoverVo(args) => crate::rover_vo_cmd::bench(args),
     }
 }
 

@@ -15,6 +15,9 @@ pub enum EvalCommand {
     /// default scale method and with the paper's eq. (4), and reports ATE (Sim(3) and SE(3)),
     /// RPE and final error; writes TUM files and a Fig. 5-style PNG.
     Vo(VoArgs),
+    /// Rover stereo VO on a rendered ~56 m traverse of the default terrain (IMU roll/pitch
+    /// prior): drift in % of distance, ATE (Sim(3), SE(3)), RPE; TUM files and a top-view PNG.
+    RoverVo(crate::rover_vo_cmd::RoverVoEvalArgs),
 }
 
 #[derive(Debug, Args)]
@@ -33,6 +36,7 @@ pub struct VoArgs {
 
 pub fn run(command: EvalCommand) -> ExitCode {
     match command {
+        EvalCommand::RoverVo(args) => crate::rover_vo_cmd::eval(args),
         EvalCommand::Vo(args) => match match &args.dataset {
             Some(dataset) => vo_dataset(dataset, &args.out),
             None => vo(&args),

@@ -8,6 +8,7 @@ mod eval_cmd;
 mod launch_cmd;
 mod plan_cmd;
 mod registry;
+mod rover_vo_cmd;
 mod run_cmd;
 
 use std::process::ExitCode;

@@ -83,7 +83,7 @@ impl Namespace {
     pub fn create_node(&self, name: &str) -> Result<Node<IpcService>, NamespaceError> {
         let node_name =
             NodeName::new(name).map_err(|_| NamespaceError::BadNodeName(name.to_owned()))?;
-        NodeBuilder::new()
+        let node = NodeBuilder::new()
             .name(&node_name)
             .config(&self.config)
             .signal_handling_mode(SignalHandlingMode::HandleTerminationRequests)
@@ -91,7 +91,27 @@ impl Namespace {
             .map_err(|error| NamespaceError::NodeCreation {
                 name: name.to_owned(),
                 reason: format!("{error:?}"),
-            })
+            })?;
+        self.restrict_to_owner();
+        Ok(node)
+    }
+
+    /// Takes group and other access away from this namespace's files. iceoryx2 creates its
+    /// per-domain management segment world-accessible on purpose (cross-user setups); a
+    /// launch belongs to one user, and its data segments are owner-only already.
+    fn restrict_to_owner(&self) {
+        use std::os::unix::fs::PermissionsExt;
+        for path in self.leftover_files() {
+            let Ok(metadata) = std::fs::metadata(&path) else {
+                continue; // removed meanwhile
+            };
+            let mode = metadata.permissions().mode();
+            if mode & 0o077 != 0 {
+                // Best effort: a file another process owns or just removed stays as it is.
+                let _ =
+                    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(mode & 0o700));
+            }
+        }
     }
 
     /// Counts the live and dead nodes of this namespace and removes the dead ones' resources.

@@ -177,3 +177,42 @@ fn late_subscriber_recovers_last_value_from_history() {
         .expect("history");
     assert_eq!(last.stamp.frame_index, 41);
 }
+
+#[test]
+fn exhausted_shared_memory_is_a_clear_error_not_a_crash() {
+    let namespace = namespace("exhausted");
+    let node = namespace.create_node("test").expect("node");
+    let mut publisher =
+        SlicePublisher::<ImageHeader>::open(&node, &topics::PROBE_IMAGE, 64).expect("pub");
+    let subscriber =
+        SliceSubscriber::<ImageHeader>::open(&node, &topics::PROBE_IMAGE).expect("sub");
+    // A consumer that keeps every sample it receives pins shared memory. The static pools are
+    // sized for the configured borrows, so either side may be the one refused: the publisher
+    // cannot loan, or the subscriber may not borrow more. Both must be clear errors naming
+    // the topic, and nothing may crash.
+    let mut held = Vec::new();
+    let header = image_header(8, 8);
+    let mut refusal = None;
+    for _ in 0..64 {
+        if let Err(error) = publisher.send_from_fn(64, |h| *h = header, |_| 7) {
+            refusal = Some(error.to_string());
+            break;
+        }
+        match subscriber.receive() {
+            Ok(Some(sample)) => held.push(sample),
+            Ok(None) => {}
+            Err(error) => {
+                refusal = Some(error.to_string());
+                break;
+            }
+        }
+    }
+    let message = refusal.expect("holding every sample must hit a limit");
+    assert!(message.contains("hopnav/probe_source/image"), "{message}");
+    // Releasing the held samples makes room again on both sides.
+    held.clear();
+    publisher
+        .send_from_fn(64, |h| *h = header, |_| 7)
+        .expect("room again");
+    while subscriber.receive().expect("receive again").is_some() {}
+}

@@ -307,7 +307,13 @@ mod tests {
     fn section_resolves_the_start_and_names_bad_keys() {
         let config = hopnav_config::load(None).unwrap();
         let section = rover_vo_section(&config).unwrap();
-        assert_eq!(section.start_xy_m, Some(PHYSICS_DEFAULT_START_XY_M));
+        // The embedded default has a scenario, so the start is its point A, offset like physics.
+        let world: hopnav_world::WorldConfig = parse_section(&config, "world").unwrap();
+        let expected = match world.scenario.start_m {
+            Some([x, y]) => [x, y - SCENARIO_START_OFFSET_M],
+            None => PHYSICS_DEFAULT_START_XY_M,
+        };
+        assert_eq!(section.start_xy_m, Some(expected));
         let config = hopnav_config::load(Some("[physics.rover]\nstart_xy_m = [3.0, 4]\n")).unwrap();
         assert_eq!(
             rover_vo_section(&config).unwrap().start_xy_m,

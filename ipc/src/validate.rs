@@ -6,9 +6,9 @@
 
 use crate::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
-    DriveCommand, FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader, ImuSample,
-    JumpRequest, MapHeader, MissionState, PathHeader, PathPoint, PixelFormat, PoseEstimate,
-    ProcessState, Robot, SampleStamp,
+    DriveCommand, DriveDirection, FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader,
+    ImuSample, JumpRequest, MapHeader, MissionState, PathHeader, PathPoint, PixelFormat,
+    PoseEstimate, ProcessState, Robot, SampleStamp,
 };
 
 /// Why a sample was rejected.
@@ -164,7 +164,8 @@ stamped!(DriveCommand, |command| {
             command.waypoint_y_m,
             command.speed_mps,
         ],
-    )
+    )?;
+    known("direction", command.direction, DriveDirection::from_code)
 });
 stamped!(JumpRequest, |request| {
     finite("target_m", &request.target_m)

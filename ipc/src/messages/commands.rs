@@ -19,8 +19,19 @@ pub struct DriveCommand {
     pub speed_mps: f64,
     /// 1 when the goal is reached and the rover must hold still.
     pub hold: u32,
-    /// Reserved, zero.
-    pub reserved: u32,
+    /// [`DriveDirection`] code: forward (turning on the spot as needed), or reverse (rear
+    /// first, to back away from something the rover ran into).
+    pub direction: u32,
+}
+
+coded_enum! {
+    /// Which end of the rover leads.
+    DriveDirection {
+        /// Front first; the rover turns on the spot toward a waypoint behind it.
+        Forward = 0,
+        /// Rear first, toward a waypoint behind the rover (backing away from a rock).
+        Reverse = 1,
+    }
 }
 
 /// Ask the jumper to hop toward a region of interest.

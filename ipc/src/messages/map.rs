@@ -15,6 +15,9 @@ coded_enum! {
         Obstacle = 2,
         /// Near an obstacle: traversable at extra cost.
         Inflated = 3,
+        /// So close to an obstacle that the rover's body would touch it: its centre must not
+        /// enter (the planner treats the cell as an obstacle).
+        Lethal = 4,
     }
 }
 

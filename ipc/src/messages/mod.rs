@@ -18,7 +18,7 @@ mod pose;
 mod sensors;
 
 pub use clock::{ClockMode, FrameCommand, FrameTick};
-pub use commands::{Control, ControlKind, DriveCommand, HopLaunch, JumpRequest};
+pub use commands::{Control, ControlKind, DriveCommand, DriveDirection, HopLaunch, JumpRequest};
 pub use common::{Pose3, Robot, SampleStamp, Vec3};
 pub use features::{CloudHeader, FeaturePoint};
 pub use heartbeat::{Heartbeat, NO_FRAME, ProcessState};

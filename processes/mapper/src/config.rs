@@ -53,6 +53,10 @@ pub struct MapperConfig {
     pub ground_window_m: f64,
     /// Cells within this distance of an obstacle get an extra cost, metres (0 = off).
     pub inflation_radius_m: f64,
+    /// Cells within this distance (centre to centre) of an obstacle cell are lethal: the
+    /// rover's centre must not enter them, or its body would touch the rock, metres (0 =
+    /// off; at most `inflation_radius_m`).
+    pub lethal_radius_m: f64,
     /// Extra cost next to an obstacle, planner units (1000 = one straight cell); it falls
     /// linearly with distance.
     pub inflation_max_cost: u32,
@@ -74,7 +78,7 @@ impl Default for MapperConfig {
             origin_y_m: None,
             width_cells: None,
             height_cells: None,
-            traversable_height_m: 0.2,
+            traversable_height_m: 0.15,
             max_feature_height_m: 5.0,
             max_depth_sigma_m: 0.25,
             min_obstacle_support: 3,
@@ -83,6 +87,7 @@ impl Default for MapperConfig {
             min_free_support: 1,
             ground_window_m: 2.0,
             inflation_radius_m: 1.0,
+            lethal_radius_m: 0.75,
             inflation_max_cost: 2000,
             max_cells_per_frame: 2000,
             snapshot_every_frames: 50,
@@ -171,6 +176,12 @@ impl MapperConfig {
             self.inflation_radius_m,
             0.0,
             25.0 * self.cell_size_m,
+        )?;
+        check_f64(
+            "lethal_radius_m",
+            self.lethal_radius_m,
+            0.0,
+            self.inflation_radius_m,
         )?;
         check_u64(
             "max_cells_per_frame",

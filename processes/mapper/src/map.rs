@@ -125,6 +125,7 @@ impl FeatureMap {
         let kernel = inflation_kernel(
             geometry.cell_size_m,
             config.inflation_radius_m,
+            config.lethal_radius_m,
             config.inflation_max_cost,
         );
         let ground_reach_cells = (config.ground_window_m / geometry.cell_size_m)
@@ -433,6 +434,7 @@ impl FeatureMap {
         }
         let (x, y) = self.geometry.coords(index);
         let mut extra_cost = 0;
+        let mut lethal = false;
         for entry in &self.kernel {
             let (nx, ny) = (
                 x as i64 + i64::from(entry.dx),
@@ -448,9 +450,11 @@ impl FeatureMap {
             let neighbour = self.geometry.index(nx as u32, ny as u32);
             if self.base[neighbour].class == BaseClass::Obstacle {
                 extra_cost = extra_cost.max(entry.cost);
+                lethal |= entry.lethal;
             }
         }
         let class = match (extra_cost > 0, base.class) {
+            _ if lethal => CellClass::Lethal,
             (true, _) => CellClass::Inflated,
             (false, BaseClass::Free) => CellClass::Free,
             (false, _) => CellClass::Unknown,

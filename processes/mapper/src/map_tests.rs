@@ -66,13 +66,14 @@ fn assert_rock_with_ring(map: &FeatureMap) {
             "rock cell ({x}, {y})"
         );
     }
-    // One and two cells (0.5 m, 1.0 m) from the rock: inflated, cost falling with distance.
-    // Rock cells are x, y ∈ {22, 23}.
+    // One and two cells (0.5 m, 1.0 m) from the rock: lethal (the rover's body would touch
+    // it), then inflated, cost falling with distance. Rock cells are x, y ∈ {22, 23}.
     let near = map.cell_state(21, 22).expect("inside");
+    let diagonal = map.cell_state(21, 21).expect("inside");
     let far = map.cell_state(20, 22).expect("inside");
     assert_eq!(
-        (near.class, far.class),
-        (CellClass::Inflated, CellClass::Inflated)
+        (near.class, diagonal.class, far.class),
+        (CellClass::Lethal, CellClass::Lethal, CellClass::Inflated)
     );
     assert!(near.extra_cost > far.extra_cost && far.extra_cost > 0);
     // Everything else on the slope: free.
@@ -295,7 +296,10 @@ fn only_changed_cells_are_published() {
     for change in &changes {
         assert!((20..=25).contains(&change.x) && (20..=25).contains(&change.y));
         let class = CellClass::from_code(change.class).expect("code");
-        assert!(matches!(class, CellClass::Obstacle | CellClass::Inflated));
+        assert!(matches!(
+            class,
+            CellClass::Obstacle | CellClass::Lethal | CellClass::Inflated
+        ));
     }
 
     // A second robot seeing a cell changes its observers: sent again.

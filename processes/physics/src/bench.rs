@@ -199,6 +199,7 @@ pub fn run_physics_bench(cfg: &PhysicsBenchConfig) -> Result<PhysicsBenchReport,
                 waypoint_xy_m: corners[corner],
                 speed_mps: 0.5,
                 hold: false,
+                reverse: false,
             }),
             hop_request,
         };

@@ -13,6 +13,9 @@ pub struct DriveCommand {
     pub speed_mps: f64,
     /// Stop and stay (the waypoint is ignored).
     pub hold: bool,
+    /// Drive rear first toward a waypoint behind the rover (to back away from a rock: turning
+    /// on the spot against it would sweep the chassis into it).
+    pub reverse: bool,
 }
 
 /// A request for the jumper to hop toward a target.
@@ -141,6 +144,8 @@ pub enum RoverMode {
     Turning,
     /// Driving toward the waypoint.
     Driving,
+    /// Backing up, rear first, toward a waypoint behind.
+    Reversing,
     /// Within the arrival tolerance of the waypoint.
     Arrived,
 }

@@ -194,6 +194,7 @@ impl Process for PhysicsProcess {
                 waypoint_xy_m: [command.waypoint_x_m, command.waypoint_y_m],
                 speed_mps: command.speed_mps,
                 hold: command.hold != 0,
+                reverse: command.direction == msg::DriveDirection::Reverse.code(),
             });
         }
         if let Some(request) = self.jump_requests.receive_latest()?

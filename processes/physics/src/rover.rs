@@ -12,7 +12,9 @@
 //! Per substep:
 //! 1. **Controller**: for a drive command `(waypoint, speed, hold)` it turns on the spot when
 //!    the heading error exceeds `turn_in_place_enter_rad` (until below `…_exit_rad`), else
-//!    drives with a proportional heading correction, slowing to stop at the waypoint.
+//!    drives with a proportional heading correction, slowing to stop at the waypoint. A
+//!    `reverse` command backs up rear first toward a waypoint behind (how a rover gets away
+//!    from a rock it ran into: turning on the spot there would sweep a corner into the rock).
 //! 2. **Steering**: each wheel's target angle follows from the commanded body twist
 //!    (`v_wheel = v·x̂ + ω ẑ × p_wheel`; a wheel may roll backwards to stay within ±90°), slewed
 //!    at `max_steer_rate_radps`. The chassis only moves while all wheels are within
@@ -364,6 +366,17 @@ impl Rover {
             self.mode = RoverMode::Arrived;
             return (0.0, 0.0);
         }
+        let v_stop = (2.0 * cfg.max_accel_mps2 * d).sqrt();
+        if cmd.reverse {
+            // Rear first: steer the rear toward the waypoint, never turn on the spot.
+            self.turning = false;
+            self.mode = RoverMode::Reversing;
+            let err = wrap_angle(dy.atan2(dx) - self.yaw_rad - std::f64::consts::PI);
+            let w = (cfg.heading_gain_per_s * err)
+                .clamp(-cfg.max_yaw_rate_radps, cfg.max_yaw_rate_radps);
+            let v = cmd.speed_mps.min(cfg.max_speed_mps).min(v_stop).max(0.0);
+            return (-v, w);
+        }
         let err = wrap_angle(dy.atan2(dx) - self.yaw_rad);
         if self.turning {
             self.turning = err.abs() >= cfg.turn_in_place_exit_rad;
@@ -377,7 +390,6 @@ impl Rover {
             return (0.0, w);
         }
         self.mode = RoverMode::Driving;
-        let v_stop = (2.0 * cfg.max_accel_mps2 * d).sqrt();
         let v = cmd.speed_mps.min(cfg.max_speed_mps).min(v_stop).max(0.0);
         (v, w)
     }

@@ -13,6 +13,7 @@ fn inputs(k: usize) -> FrameInputs {
             waypoint_xy_m: corners[(k / 50) % 4],
             speed_mps: 0.5,
             hold: false,
+            reverse: false,
         }),
         hop_request: (k % 60 == 59).then_some(HopRequest {
             target_xy_m: [-2.0 - (k / 60) as f64 * 3.0, 6.0],

@@ -107,6 +107,47 @@ fn tall_rock_blocks_and_counts_a_collision() {
 }
 
 #[test]
+fn a_blocked_rover_backs_away_rear_first_and_can_then_turn() {
+    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0, 1.0, 0.5)]);
+    let cfg = rover_cfg([-5.0, -3.0]);
+    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let blocked = run(&mut sim, 300, drive([5.0, -3.0], 0.5));
+    let against_x_m = blocked.last().unwrap().rover.position_m[0];
+    let yaw_rad = yaw_of(blocked.last().unwrap().rover.orientation_xyzw);
+    // Back up 0.6 m toward a point straight behind.
+    let mut back = drive([against_x_m - 0.6, -3.0], 0.3);
+    if let Some(command) = back.drive.as_mut() {
+        command.reverse = true;
+    }
+    let outs = run(&mut sim, 60, back);
+    let last = outs.last().unwrap();
+    assert!(
+        outs.iter()
+            .any(|o| o.rover_status.mode == RoverMode::Reversing),
+        "{:?}",
+        last.rover_status
+    );
+    assert!(
+        last.rover.position_m[0] < against_x_m - 0.45,
+        "backed up from {against_x_m} to {}",
+        last.rover.position_m[0]
+    );
+    // Rear first: the heading did not flip.
+    assert!((yaw_of(last.rover.orientation_xyzw) - yaw_rad).abs() < 0.1);
+    assert_eq!(last.rover_status.collision_count, 1, "no new contact");
+    assert_eq!(last.rover_status.blocked, None);
+    // Clear of the rock, it can turn on the spot toward a waypoint to the side.
+    let outs = run(&mut sim, 100, drive([against_x_m - 0.5, 2.0], 0.5));
+    let last = outs.last().unwrap();
+    assert!(
+        yaw_of(last.rover.orientation_xyzw) > 1.2,
+        "{:?}",
+        last.rover_status
+    );
+    assert_eq!(last.rover_status.collision_count, 1);
+}
+
+#[test]
 fn small_rock_is_climbed() {
     // 0.12 m pebble under the left wheels' path.
     let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0 + 0.35, 0.3, 0.12)]);

@@ -7,8 +7,8 @@
 
 use hopnav_config::{ConfigError, HopnavConfig, MissionMode, parse_section};
 use hopnav_ipc::messages::{
-    CellClass, CellUpdate, DriveCommand, FrameTick, JumpRequest, MapHeader, MissionState,
-    PathHeader, PathPoint, PoseEstimate,
+    CellClass, CellUpdate, DriveCommand, DriveDirection, FrameTick, JumpRequest, MapHeader,
+    MissionState, PathHeader, PathPoint, PoseEstimate,
 };
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
@@ -16,7 +16,7 @@ use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscrib
 
 use crate::grid::{Cell, CellChange, CellState};
 use crate::mission::{
-    Decision, MapGeometry, MissionStatus, NavigationError, Navigator, NavigatorConfig,
+    Decision, MapGeometry, MissionStatus, NavigationError, Navigator, NavigatorConfig, RoverPose,
 };
 
 /// Why the planner process failed.
@@ -97,7 +97,7 @@ fn cell_change(update: &CellUpdate) -> Option<CellChange> {
     let state = match CellClass::from_code(update.class)? {
         CellClass::Unknown => CellState::Unknown,
         CellClass::Free | CellClass::Inflated => CellState::Free,
-        CellClass::Obstacle => CellState::Obstacle,
+        CellClass::Obstacle | CellClass::Lethal => CellState::Obstacle,
     };
     Some(CellChange::new(
         Cell::new(update.x, update.y),
@@ -182,6 +182,12 @@ impl PlannerProcess {
                 command.waypoint_y_m = decision.waypoint_m[1];
                 command.speed_mps = decision.speed_mps;
                 command.hold = u32::from(decision.hold);
+                command.direction = if decision.reverse {
+                    DriveDirection::Reverse
+                } else {
+                    DriveDirection::Forward
+                }
+                .code();
             })?;
         }
         let state = mission_state(decision);
@@ -265,7 +271,12 @@ impl Process for PlannerProcess {
         let decision = match (self.navigator.as_mut(), self.last_rover_pose) {
             (Some(navigator), Some(pose)) => {
                 let [x_m, y_m, _] = pose.world_from_body.position_m;
-                Some(navigator.step([x_m, y_m], self.last_jumper_xy_m, time_s)?)
+                let (_, _, yaw_rad) = pose.world_from_body.to_isometry().rotation.euler_angles();
+                let rover = RoverPose {
+                    xy_m: [x_m, y_m],
+                    yaw_rad,
+                };
+                Some(navigator.step(rover, self.last_jumper_xy_m, time_s)?)
             }
             _ => None,
         };

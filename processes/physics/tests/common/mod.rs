@@ -37,6 +37,7 @@ pub fn drive(waypoint_xy_m: [f64; 2], speed_mps: f64) -> FrameInputs {
             waypoint_xy_m,
             speed_mps,
             hold: false,
+            reverse: false,
         }),
         hop_request: None,
     }

@@ -14,12 +14,21 @@ pub struct NavigatorConfig {
     pub lookahead_m: f64,
     /// The rover's stereo camera maps reliably out to this range, metres.
     pub sensing_range_m: f64,
-    /// The rover counts as blocked when it moved less than `stall_distance_m` in this long
-    /// while driving; the cell ahead is then marked as an obstacle (a virtual bumper),
-    /// seconds.
+    /// The rover counts as stuck when, told to drive, it neither moved `stall_distance_m` nor
+    /// turned `stall_yaw_rad` in this long; it then backs off and the cell ahead is marked
+    /// as an obstacle (a virtual bumper), seconds.
     pub stall_time_s: f64,
     /// See `stall_time_s`, metres.
     pub stall_distance_m: f64,
+    /// See `stall_time_s`, radians.
+    pub stall_yaw_rad: f64,
+    /// A stuck rover backs up this far, rear first, before it plans again, metres.
+    pub back_off_m: f64,
+    /// A back-off that makes no progress gives up after this long, seconds.
+    pub back_off_timeout_s: f64,
+    /// The cell this far ahead of a stuck rover is marked as an obstacle, metres (half the
+    /// chassis length plus a little).
+    pub bump_reach_m: f64,
     /// When to ask the jumper to scout (cooperative mode only).
     pub scout: ScoutConfig,
 }
@@ -31,8 +40,12 @@ impl Default for NavigatorConfig {
             cruise_speed_mps: 0.5,
             lookahead_m: 1.5,
             sensing_range_m: 8.0,
-            stall_time_s: 4.0,
-            stall_distance_m: 0.2,
+            stall_time_s: 2.0,
+            stall_distance_m: 0.1,
+            stall_yaw_rad: 0.1,
+            back_off_m: 0.6,
+            back_off_timeout_s: 5.0,
+            bump_reach_m: 0.8,
             scout: ScoutConfig::default(),
         }
     }
@@ -71,8 +84,18 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 10] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 14] = [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
+            ("stall_yaw_rad", self.stall_yaw_rad, 0.001, 3.0, "0.001..=3"),
+            ("back_off_m", self.back_off_m, 0.0, 10.0, "0..=10"),
+            (
+                "back_off_timeout_s",
+                self.back_off_timeout_s,
+                0.1,
+                600.0,
+                "0.1..=600",
+            ),
+            ("bump_reach_m", self.bump_reach_m, 0.1, 10.0, "0.1..=10"),
             (
                 "stall_distance_m",
                 self.stall_distance_m,

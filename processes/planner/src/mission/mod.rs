@@ -2,25 +2,30 @@
 //! map the mapper publishes, and ask the jumper to scout where the rover cannot see.
 //!
 //! - [`geometry`]: world metres ↔ grid cells.
+//! - [`bumper`]: a rover that neither moves nor turns is stuck against something unmapped:
+//!   back it off and mark the cell ahead.
 //! - [`navigator`]: replans on map changes and rover motion, picks the next waypoint, decides
 //!   when the goal is reached or unreachable.
 //! - [`scout`]: the paper's cooperative rule: when the path runs into unknown cells beyond the
 //!   rover's sensing range or behind an obstacle, request a hop that flies over them.
 //!
 //! ```
-//! use hopnav_planner::mission::{MapGeometry, Navigator, NavigatorConfig};
+//! use hopnav_planner::mission::{MapGeometry, Navigator, NavigatorConfig, RoverPose};
 //! let geometry = MapGeometry::new(-8.0, -8.0, 0.5, 32, 32)?;
 //! let mut navigator = Navigator::new(geometry, [-6.0, 0.0], [6.0, 0.0], NavigatorConfig::default())?;
-//! let decision = navigator.step([-6.0, 0.0], None, 0.0)?;
+//! let rover = RoverPose { xy_m: [-6.0, 0.0], yaw_rad: 0.0 };
+//! let decision = navigator.step(rover, None, 0.0)?;
 //! assert!(decision.waypoint_m[0] > -6.0);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bumper;
 mod config;
 mod geometry;
 mod navigator;
 mod scout;
 
+pub use bumper::{Bumper, BumperEvent, RoverPose};
 pub use config::{NavigatorConfig, ScoutConfig};
 pub use geometry::{GeometryError, MapGeometry};
 pub use navigator::{Decision, MissionStatus, NavigationError, Navigator, NavigatorCounters};

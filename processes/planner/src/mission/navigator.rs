@@ -1,9 +1,10 @@
 //! Follows the D* Lite path to the goal: applies the mapper's changes, moves the search start
 //! with the rover, replans, picks a waypoint, and asks the jumper to scout.
 
+use super::bumper::{Bumper, BumperEvent, RoverPose};
 use super::config::NavigatorConfig;
 use super::geometry::MapGeometry;
-use super::scout::{self, ScoutDecision, distance_m, line_of_sight};
+use super::scout::{self, ScoutDecision, distance_m};
 use crate::cost::{Cost, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
@@ -46,6 +47,8 @@ pub struct Decision {
     pub speed_mps: f64,
     /// Hold still.
     pub hold: bool,
+    /// Back up rear first toward the waypoint (getting away from something the rover hit).
+    pub reverse: bool,
     /// A hop to request from the jumper, if the cooperative rule fired.
     pub scout: Option<ScoutDecision>,
     /// Mission status.
@@ -69,6 +72,15 @@ pub struct NavigatorCounters {
     pub scout_requests: u32,
     /// Times the rover was found blocked and the cell ahead marked as an obstacle.
     pub blocked_marks: u32,
+    /// Times the bump marks were forgotten because they alone cut the rover off the goal.
+    pub bump_marks_forgotten: u32,
+}
+
+/// A cell the rover bumped into, and what the mapper says of it meanwhile.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct BumpedCell {
+    cell: Cell,
+    mapper: CellChange,
 }
 
 /// Bumped cells remembered (a bounded list: a mission bumps a handful).
@@ -84,10 +96,13 @@ pub struct Navigator {
     pending: Vec<CellChange>,
     counters: NavigatorCounters,
     last_request_s: f64,
-    /// Where and when the rover last made progress (stall detection).
-    progress_anchor: Option<([f64; 2], f64)>,
-    /// Cells the rover bumped into: obstacles whatever the mapper says later.
-    bumped: Vec<Cell>,
+    /// Stall detection and backing off.
+    bumper: Bumper,
+    /// The last decision drove forward (the bumper only judges commanded motion).
+    driving: bool,
+    /// Cells the rover bumped into: obstacles whatever the mapper says later, unless they
+    /// alone cut the rover off the goal.
+    bumped: Vec<BumpedCell>,
 }
 
 impl Navigator {
@@ -114,6 +129,7 @@ impl Navigator {
         )
         .map_err(|error| NavigationError::Plan(PlanError::OutOfBounds(error)))?;
         let planner = DStarLite::new(grid, start, goal).map_err(NavigationError::Plan)?;
+        let bumper = Bumper::new(&config);
         let cell_count = geometry.width_cells() as usize * geometry.height_cells() as usize;
         Ok(Self {
             geometry,
@@ -124,7 +140,8 @@ impl Navigator {
             pending: Vec::with_capacity(1024),
             counters: NavigatorCounters::default(),
             last_request_s: 0.0,
-            progress_anchor: None,
+            bumper,
+            driving: false,
             bumped: Vec::new(),
         })
     }
@@ -154,7 +171,8 @@ impl Navigator {
     pub fn queue_changes(&mut self, changes: impl IntoIterator<Item = CellChange>) -> usize {
         let mut refused = 0;
         for change in changes {
-            if self.bumped.contains(&change.cell) {
+            if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
+                bumped.mapper = change;
                 continue;
             }
             if self.planner.grid().contains(change.cell) {
@@ -166,14 +184,15 @@ impl Navigator {
         refused
     }
 
-    /// One planning cycle at `time_s` with the rover at `rover_m` and, if known, the jumper at
+    /// One planning cycle at `time_s` with the rover at `rover` and, if known, the jumper at
     /// `jumper_m`.
     pub fn step(
         &mut self,
-        rover_m: [f64; 2],
+        rover: RoverPose,
         jumper_m: Option<[f64; 2]>,
         time_s: f64,
     ) -> Result<Decision, NavigationError> {
+        let rover_m = rover.xy_m;
         let rover_cell =
             self.geometry
                 .nearest_cell(rover_m)
@@ -182,14 +201,30 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
-        self.check_progress(rover_m, time_s);
-        let replanned = self.apply_pending()?;
         if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
+            let replanned = self.apply_pending()?;
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
+        }
+        if let BumperEvent::Stuck { obstacle_m } = self.bumper.observe(rover, time_s, self.driving)
+        {
+            self.mark_bumped(obstacle_m, rover_cell);
+        }
+        let replanned = self.apply_pending()?;
+        if let Some(waypoint_m) = self.bumper.back_off_waypoint() {
+            self.driving = false;
+            return Ok(Decision {
+                waypoint_m,
+                speed_mps: 0.5 * self.config.cruise_speed_mps,
+                hold: false,
+                reverse: true,
+                scout: None,
+                status: MissionStatus::Driving,
+                replanned,
+            });
         }
         // Mapping noise or a cut corner can put the rover in an obstacle cell: plan from the
         // nearest traversable cell instead (an obstacle start would have no way out).
-        let Some(start_cell) = self.nearest_traversable(rover_cell) else {
+        let Some(start_cell) = self.nearest_traversable(rover_cell, rover_m) else {
             return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
         };
         if start_cell != self.planner.start() {
@@ -197,7 +232,11 @@ impl Navigator {
                 .move_start(start_cell)
                 .map_err(NavigationError::Plan)?;
         }
-        match self.planner.compute_shortest_path() {
+        let mut search = self.planner.compute_shortest_path();
+        if search == Err(PlanError::Unreachable) && self.forget_bump_marks()? {
+            search = self.planner.compute_shortest_path();
+        }
+        match search {
             Ok(stats) => {
                 self.counters.total_expansions += stats.expansions;
                 self.counters.last_expansions = stats.expansions;
@@ -216,56 +255,58 @@ impl Navigator {
         }
         let waypoint_m = self.waypoint(rover_m);
         let scout = self.scout(rover_m, jumper_m, time_s);
+        self.driving = true;
         Ok(Decision {
             waypoint_m,
             speed_mps: self.config.cruise_speed_mps,
             hold: false,
+            reverse: false,
             scout,
             status: MissionStatus::Driving,
             replanned,
         })
     }
 
-    /// A rover that stopped making progress while driving is against something the map does
-    /// not show (a rock its camera missed): mark the cell ahead, toward the last waypoint, as an
-    /// obstacle so the next search goes around it.
-    fn check_progress(&mut self, rover_m: [f64; 2], time_s: f64) {
-        let Some((anchor_m, since_s)) = self.progress_anchor else {
-            self.progress_anchor = Some((rover_m, time_s));
+    /// The rover is stuck against something at `obstacle_m` the map does not show: mark its
+    /// cell as an obstacle so the next search goes around it (never the goal or the rover's
+    /// own cell).
+    fn mark_bumped(&mut self, obstacle_m: [f64; 2], rover_cell: Cell) {
+        let Some(cell) = self.geometry.cell_of(obstacle_m) else {
             return;
         };
-        if distance_m(anchor_m, rover_m) > self.config.stall_distance_m {
-            self.progress_anchor = Some((rover_m, time_s));
-            return;
-        }
-        if time_s - since_s < self.config.stall_time_s {
-            return;
-        }
-        self.progress_anchor = Some((rover_m, time_s));
-        let Some(&next) = self.path.get(1) else {
-            return;
-        };
-        let toward_m = self.geometry.center_of(next);
-        let (dx, dy) = (toward_m[0] - rover_m[0], toward_m[1] - rover_m[1]);
-        let length_m = dx.hypot(dy);
-        if length_m < 1e-6 {
-            return;
-        }
-        let reach_m = 0.6 * self.geometry.cell_size_m().max(0.5) / 0.5;
-        let ahead_m = [
-            rover_m[0] + dx / length_m * reach_m,
-            rover_m[1] + dy / length_m * reach_m,
-        ];
-        if let Some(cell) = self.geometry.cell_of(ahead_m)
-            && cell != self.planner.goal()
+        if cell == self.planner.goal()
+            || cell == rover_cell
+            || self.bumped.iter().any(|bumped| bumped.cell == cell)
         {
-            self.pending
-                .push(CellChange::new(cell, CellState::Obstacle, 0));
-            if self.bumped.len() < MAX_BUMPED_CELLS {
-                self.bumped.push(cell);
-            }
-            self.counters.blocked_marks += 1;
+            return;
         }
+        let grid = self.planner.grid();
+        let mapper = CellChange::new(
+            cell,
+            grid.state(cell).unwrap_or(CellState::Unknown),
+            grid.extra_cost(cell).unwrap_or(0),
+        );
+        self.pending
+            .push(CellChange::new(cell, CellState::Obstacle, 0));
+        if self.bumped.len() < MAX_BUMPED_CELLS {
+            self.bumped.push(BumpedCell { cell, mapper });
+        }
+        self.counters.blocked_marks += 1;
+    }
+
+    /// When the goal is unreachable and bump marks exist, they may be what cuts the rover
+    /// off (bumps are guesses from a stall): restore the mapper's view of those cells.
+    /// True when marks were forgotten and the search is worth repeating.
+    fn forget_bump_marks(&mut self) -> Result<bool, NavigationError> {
+        if self.bumped.is_empty() {
+            return Ok(false);
+        }
+        let restore: Vec<CellChange> = self.bumped.drain(..).map(|bumped| bumped.mapper).collect();
+        self.planner
+            .update_cells(&restore)
+            .map_err(NavigationError::Plan)?;
+        self.counters.bump_marks_forgotten += 1;
+        Ok(true)
     }
 
     /// Applies queued changes; true when they changed the cost of the path being followed.
@@ -293,44 +334,65 @@ impl Navigator {
         path_cost(self.planner.grid(), &self.path)
     }
 
-    fn hold(&self, rover_m: [f64; 2], status: MissionStatus, replanned: bool) -> Decision {
+    fn hold(&mut self, rover_m: [f64; 2], status: MissionStatus, replanned: bool) -> Decision {
+        self.driving = false;
         Decision {
             waypoint_m: rover_m,
             speed_mps: 0.0,
             hold: true,
+            reverse: false,
             scout: None,
             status,
             replanned,
         }
     }
 
-    /// The first path point at least `lookahead_m` from the rover if the rover sees it past
-    /// no obstacle (else the next path cell), or the goal itself at the end.
+    /// Pure pursuit: the first path point at least `lookahead_m` from the rover, or a nearer
+    /// one, such that the straight drive from the rover's actual position to it crosses no
+    /// obstacle cell (a segment from the cell centre could cut a corner the rover then hits);
+    /// the goal itself at the end of the path.
     fn waypoint(&self, rover_m: [f64; 2]) -> [f64; 2] {
-        let grid = self.planner.grid();
         let ahead = self.path.iter().position(|&cell| {
             distance_m(self.geometry.center_of(cell), rover_m) >= self.config.lookahead_m
         });
         let Some(index) = ahead else {
             return self.goal_m;
         };
-        let start = self.planner.start();
-        if line_of_sight(grid, start, self.path[index]) {
-            return self.geometry.center_of(self.path[index]);
-        }
-        let next = self.path.get(1).copied().unwrap_or(self.path[index]);
-        self.geometry.center_of(next)
+        (1..=index)
+            .rev()
+            .map(|candidate| self.geometry.center_of(self.path[candidate]))
+            .find(|&target_m| self.segment_is_clear(rover_m, target_m))
+            .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
     }
 
-    /// `cell` if traversable, else the nearest traversable cell within three rings.
-    fn nearest_traversable(&self, cell: Cell) -> Option<Cell> {
+    /// True when every point of the segment (sampled at a quarter cell) lies in a traversable
+    /// cell of the map.
+    fn segment_is_clear(&self, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
+        let grid = self.planner.grid();
+        let step_m = 0.25 * self.geometry.cell_size_m();
+        let samples = (distance_m(from_m, to_m) / step_m).ceil().max(1.0) as usize;
+        (0..=samples).all(|sample| {
+            let t = sample as f64 / samples as f64;
+            let point_m = [
+                from_m[0] + t * (to_m[0] - from_m[0]),
+                from_m[1] + t * (to_m[1] - from_m[1]),
+            ];
+            self.geometry
+                .cell_of(point_m)
+                .is_some_and(|cell| grid.is_traversable(cell))
+        })
+    }
+
+    /// `cell` if traversable, else the traversable cell within three rings whose centre is
+    /// nearest the rover's actual position.
+    fn nearest_traversable(&self, cell: Cell, rover_m: [f64; 2]) -> Option<Cell> {
         let grid = self.planner.grid();
         if grid.is_traversable(cell) {
             return Some(cell);
         }
         const MAX_RING: i64 = 3;
         for ring in 1..=MAX_RING {
-            let mut best: Option<(i64, Cell)> = None;
+            let mut best: Option<(f64, Cell)> = None;
             for dy in -ring..=ring {
                 for dx in -ring..=ring {
                     if dx.abs().max(dy.abs()) != ring {
@@ -341,12 +403,12 @@ impl Navigator {
                         continue;
                     }
                     let candidate = Cell::new(x as u32, y as u32);
-                    let distance_sq = dx * dx + dy * dy;
-                    if grid.contains(candidate)
-                        && grid.is_traversable(candidate)
-                        && best.is_none_or(|(best_sq, _)| distance_sq < best_sq)
-                    {
-                        best = Some((distance_sq, candidate));
+                    if !(grid.contains(candidate) && grid.is_traversable(candidate)) {
+                        continue;
+                    }
+                    let distance = distance_m(self.geometry.center_of(candidate), rover_m);
+                    if best.is_none_or(|(best_m, _)| distance < best_m) {
+                        best = Some((distance, candidate));
                     }
                 }
             }
@@ -395,6 +457,10 @@ impl Navigator {
 mod tests {
     use super::*;
 
+    fn at(xy_m: [f64; 2]) -> RoverPose {
+        RoverPose { xy_m, yaw_rad: 0.0 }
+    }
+
     /// Drives a point rover along the decisions; cells within `reveal_m` are revealed from
     /// `truth` each frame. Returns the last decision and the frames used.
     fn drive(
@@ -404,10 +470,23 @@ mod tests {
         reveal_m: f64,
         max_frames: usize,
     ) -> (Decision, usize) {
+        drive_among_hidden(navigator, truth, &[], start_m, reveal_m, max_frames)
+    }
+
+    /// [`drive`] with `hidden` cells that stop the rover but that no sensor ever reveals.
+    fn drive_among_hidden(
+        navigator: &mut Navigator,
+        truth: &Grid,
+        hidden: &[Cell],
+        start_m: [f64; 2],
+        reveal_m: f64,
+        max_frames: usize,
+    ) -> (Decision, usize) {
         let geometry = *navigator.geometry();
-        let mut rover_m = start_m;
-        let step_m: f64 = 0.25;
+        let mut rover = at(start_m);
+        let step_m: f64 = 0.05;
         for frame in 0..max_frames {
+            let rover_m = rover.xy_m;
             let mut changes = Vec::new();
             for index in 0..truth.cell_count() {
                 let cell = truth.cell_at(index).unwrap();
@@ -419,7 +498,7 @@ mod tests {
                 }
             }
             navigator.queue_changes(changes);
-            let decision = navigator.step(rover_m, None, frame as f64 * 0.1).unwrap();
+            let decision = navigator.step(rover, None, frame as f64 * 0.1).unwrap();
             if decision.hold {
                 return (decision, frame);
             }
@@ -429,12 +508,30 @@ mod tests {
             ];
             let length = dx.hypot(dy).max(1e-9);
             let advance = step_m.min(length);
-            rover_m = [
+            let next_m = [
                 rover_m[0] + dx / length * advance,
                 rover_m[1] + dy / length * advance,
             ];
+            let blocked = geometry
+                .cell_of(next_m)
+                .is_some_and(|cell| hidden.contains(&cell));
+            if !blocked {
+                // A reversing rover keeps its heading; otherwise it faces where it goes.
+                let yaw_rad = if decision.reverse {
+                    rover.yaw_rad
+                } else {
+                    dy.atan2(dx)
+                };
+                rover = RoverPose {
+                    xy_m: next_m,
+                    yaw_rad,
+                };
+            }
         }
-        panic!("no terminal decision in {max_frames} frames");
+        panic!(
+            "no terminal decision in {max_frames} frames: rover {rover:?}, {:?}",
+            navigator.counters()
+        );
     }
 
     fn walled_world() -> (MapGeometry, Grid) {
@@ -478,11 +575,99 @@ mod tests {
     }
 
     #[test]
+    fn a_rover_stuck_on_an_unmapped_rock_backs_off_marks_it_and_goes_around() {
+        let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+        // A rock no camera sees, straight on the line from start to goal.
+        let rock = geometry.cell_of([10.0, 5.0]).unwrap();
+        let mut config = NavigatorConfig::default();
+        config.scout.enabled = false;
+        let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+        let mut reversed = false;
+        let mut rover = at([2.0, 5.0]);
+        for frame in 0..3000 {
+            let decision = navigator.step(rover, None, frame as f64 * 0.1).unwrap();
+            reversed |= decision.reverse;
+            if decision.hold {
+                assert_eq!(decision.status, MissionStatus::GoalReached);
+                break;
+            }
+            let [dx, dy] = [
+                decision.waypoint_m[0] - rover.xy_m[0],
+                decision.waypoint_m[1] - rover.xy_m[1],
+            ];
+            let length = dx.hypot(dy).max(1e-9);
+            let advance = 0.05_f64.min(length);
+            let next_m = [
+                rover.xy_m[0] + dx / length * advance,
+                rover.xy_m[1] + dy / length * advance,
+            ];
+            // The chassis front (0.5 m ahead) may not enter the rock's cell.
+            let yaw_rad = if decision.reverse {
+                rover.yaw_rad
+            } else {
+                dy.atan2(dx)
+            };
+            let front_m = RoverPose {
+                xy_m: next_m,
+                yaw_rad,
+            }
+            .ahead_m(0.5);
+            if geometry.cell_of(front_m) != Some(rock) {
+                rover = RoverPose {
+                    xy_m: next_m,
+                    yaw_rad,
+                };
+            }
+        }
+        assert!(distance_m(rover.xy_m, [18.0, 5.0]) < 1.0, "{rover:?}");
+        assert!(reversed, "it backed off");
+        assert!(navigator.counters().blocked_marks >= 1);
+        assert_eq!(navigator.grid().state(rock), Some(CellState::Obstacle));
+    }
+
+    #[test]
+    fn bump_marks_that_alone_cut_off_the_goal_are_forgotten() {
+        let (geometry, mut truth) = walled_world();
+        // Close the wall but for one gap at y = 10 m.
+        for y in 34..40 {
+            truth
+                .apply(&CellChange::new(Cell::new(30, y), CellState::Obstacle, 0))
+                .unwrap();
+        }
+        let gap = Cell::new(30, 20);
+        truth
+            .apply(&CellChange::new(gap, CellState::Free, 0))
+            .unwrap();
+        let mut config = NavigatorConfig::default();
+        config.scout.enabled = false;
+        let mut navigator = Navigator::new(geometry, [13.0, 10.25], [28.0, 10.25], config).unwrap();
+        // The rover sits still facing the gap for a while (a wheel slipping, say): a stall.
+        let stuck = RoverPose {
+            xy_m: [14.4, 10.25],
+            yaw_rad: 0.0,
+        };
+        let changes: Vec<CellChange> = (0..truth.cell_count())
+            .filter_map(|index| truth.cell_at(index))
+            .map(|cell| CellChange::new(cell, truth.state(cell).unwrap(), 0))
+            .collect();
+        navigator.queue_changes(changes);
+        for frame in 0..40 {
+            navigator.step(stuck, None, frame as f64 * 0.1).unwrap();
+        }
+        assert_eq!(navigator.counters().blocked_marks, 1);
+        assert_eq!(navigator.grid().state(gap), Some(CellState::Obstacle));
+        // Backed off, it finds the gap closed by its own mark: it forgets the mark and goes on.
+        let (decision, _) = drive(&mut navigator, &truth, [13.6, 10.25], 40.0, 3000);
+        assert_eq!(decision.status, MissionStatus::GoalReached);
+        assert_eq!(navigator.counters().bump_marks_forgotten, 1);
+    }
+
+    #[test]
     fn start_at_the_goal_holds_at_once() {
         let geometry = MapGeometry::new(0.0, 0.0, 0.5, 20, 20).unwrap();
         let mut navigator =
             Navigator::new(geometry, [5.0, 5.0], [5.2, 5.0], NavigatorConfig::default()).unwrap();
-        let decision = navigator.step([5.0, 5.0], None, 0.0).unwrap();
+        let decision = navigator.step(at([5.0, 5.0]), None, 0.0).unwrap();
         assert_eq!(decision.status, MissionStatus::GoalReached);
         assert!(decision.hold);
     }
@@ -497,20 +682,25 @@ mod tests {
             NavigatorConfig::default(),
         )
         .unwrap();
+        // The rover turns a little between calls: it is not stuck.
+        let turned = |yaw_rad| RoverPose {
+            xy_m: [1.0, 5.0],
+            yaw_rad,
+        };
         // Nothing before the first interval: the jumper's own first hop is in the air.
         assert!(
             navigator
-                .step([1.0, 5.0], None, 1.0)
+                .step(turned(0.0), None, 1.0)
                 .unwrap()
                 .scout
                 .is_none()
         );
-        let decision = navigator.step([1.0, 5.0], None, 10.0).unwrap();
+        let decision = navigator.step(turned(0.5), None, 10.0).unwrap();
         let scout = decision.scout.expect("a hop request");
         assert!((scout.target_m[0] - 20.75).abs() < 0.5, "{scout:?}");
         assert!(
             navigator
-                .step([1.0, 5.0], None, 12.0)
+                .step(turned(0.0), None, 12.0)
                 .unwrap()
                 .scout
                 .is_none()
@@ -532,7 +722,7 @@ mod tests {
         );
         let mut navigator =
             Navigator::new(geometry, [1.0, 1.0], [8.0, 8.0], NavigatorConfig::default()).unwrap();
-        assert!(navigator.step([f64::NAN, 1.0], None, 0.0).is_err());
+        assert!(navigator.step(at([f64::NAN, 1.0]), None, 0.0).is_err());
         assert_eq!(
             navigator.queue_changes([CellChange::new(Cell::new(99, 0), CellState::Obstacle, 0)]),
             1

@@ -1,0 +1,256 @@
+//! The virtual bumper: notices from the VO pose alone that the rover ran into something the map
+//! does not show, and backs it away.
+//!
+//! A rover that neither moves nor turns while it is told to drive is against a rock its camera
+//! missed (a rock just above the climbable height, or one hidden below the camera's view).
+//! Turning counts as progress: a rover turning on the spot toward a new path is not stuck.
+//! Once stuck, it backs up rear first, because turning on the spot against a rock would sweep
+//! a corner of the chassis into it; the navigator marks the cell ahead as an obstacle.
+//!
+//! ```
+//! use hopnav_planner::mission::{Bumper, BumperEvent, NavigatorConfig, RoverPose};
+//! let mut bumper = Bumper::new(&NavigatorConfig::default());
+//! let pose = RoverPose { xy_m: [0.0, 0.0], yaw_rad: 0.0 };
+//! let mut event = BumperEvent::Clear;
+//! for frame in 0..40 {
+//!     event = bumper.observe(pose, frame as f64 * 0.1, true);
+//!     if event != BumperEvent::Clear {
+//!         break;
+//!     }
+//! }
+//! assert!(matches!(event, BumperEvent::Stuck { .. }));
+//! assert!(bumper.back_off_waypoint().unwrap()[0] < 0.0);
+//! ```
+
+use super::config::NavigatorConfig;
+use super::scout::distance_m;
+
+/// The rover's planar pose as the VO estimates it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoverPose {
+    /// Position (x, y), world metres.
+    pub xy_m: [f64; 2],
+    /// Heading about world z, radians (0 = +x).
+    pub yaw_rad: f64,
+}
+
+impl RoverPose {
+    /// The point `distance_m` ahead along the heading (behind for negative distances).
+    pub fn ahead_m(&self, distance_m: f64) -> [f64; 2] {
+        let (sin, cos) = self.yaw_rad.sin_cos();
+        [
+            self.xy_m[0] + distance_m * cos,
+            self.xy_m[1] + distance_m * sin,
+        ]
+    }
+}
+
+/// What the bumper concluded this frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BumperEvent {
+    /// Moving, turning, or not asked to drive.
+    Clear,
+    /// Stuck: something is in the way at about `obstacle_m`; backing off has begun.
+    Stuck {
+        /// Where the obstacle probably is (ahead along the heading), world metres.
+        obstacle_m: [f64; 2],
+    },
+    /// Backing off, rear first.
+    BackingOff,
+}
+
+/// Settings (from `[planner]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct BumperConfig {
+    stall_time_s: f64,
+    stall_distance_m: f64,
+    stall_yaw_rad: f64,
+    back_off_m: f64,
+    back_off_timeout_s: f64,
+    obstacle_reach_m: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct BackOff {
+    from: RoverPose,
+    since_s: f64,
+}
+
+/// Stall detection and the back-off manoeuvre.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bumper {
+    config: BumperConfig,
+    /// Pose and time of the last progress.
+    anchor: Option<(RoverPose, f64)>,
+    backing_off: Option<BackOff>,
+    stalls: u32,
+}
+
+impl Bumper {
+    /// A bumper with the navigator's stall and back-off settings.
+    pub fn new(config: &NavigatorConfig) -> Self {
+        Self {
+            config: BumperConfig {
+                stall_time_s: config.stall_time_s,
+                stall_distance_m: config.stall_distance_m,
+                stall_yaw_rad: config.stall_yaw_rad,
+                back_off_m: config.back_off_m,
+                back_off_timeout_s: config.back_off_timeout_s,
+                obstacle_reach_m: config.bump_reach_m,
+            },
+            anchor: None,
+            backing_off: None,
+            stalls: 0,
+        }
+    }
+
+    /// Times the rover was found stuck.
+    pub fn stalls(&self) -> u32 {
+        self.stalls
+    }
+
+    /// One frame at `time_s`. `driving`: the rover was told to drive forward (not holding).
+    pub fn observe(&mut self, pose: RoverPose, time_s: f64, driving: bool) -> BumperEvent {
+        if let Some(back_off) = self.backing_off {
+            let done = distance_m(back_off.from.xy_m, pose.xy_m) >= self.config.back_off_m
+                || time_s - back_off.since_s >= self.config.back_off_timeout_s;
+            if !done {
+                return BumperEvent::BackingOff;
+            }
+            self.backing_off = None;
+            self.anchor = Some((pose, time_s));
+        }
+        if !driving {
+            self.anchor = None;
+            return BumperEvent::Clear;
+        }
+        let Some((anchor, since_s)) = self.anchor else {
+            self.anchor = Some((pose, time_s));
+            return BumperEvent::Clear;
+        };
+        let turned_rad = wrap_angle(pose.yaw_rad - anchor.yaw_rad).abs();
+        if distance_m(anchor.xy_m, pose.xy_m) > self.config.stall_distance_m
+            || turned_rad > self.config.stall_yaw_rad
+        {
+            self.anchor = Some((pose, time_s));
+            return BumperEvent::Clear;
+        }
+        if time_s - since_s < self.config.stall_time_s {
+            return BumperEvent::Clear;
+        }
+        self.stalls += 1;
+        self.anchor = None;
+        self.backing_off = Some(BackOff {
+            from: pose,
+            since_s: time_s,
+        });
+        BumperEvent::Stuck {
+            obstacle_m: pose.ahead_m(self.config.obstacle_reach_m),
+        }
+    }
+
+    /// While backing off: the waypoint straight behind where the back-off began (beyond the
+    /// back-off distance, so the rover does not slow to a stop before it gets there).
+    pub fn back_off_waypoint(&self) -> Option<[f64; 2]> {
+        self.backing_off
+            .map(|back_off| back_off.from.ahead_m(-(self.config.back_off_m + 0.5)))
+    }
+}
+
+/// `angle` in `(−π, π]`.
+fn wrap_angle(angle: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let wrapped = angle.rem_euclid(tau);
+    if wrapped > std::f64::consts::PI {
+        wrapped - tau
+    } else {
+        wrapped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pose(x_m: f64, yaw_rad: f64) -> RoverPose {
+        RoverPose {
+            xy_m: [x_m, 0.0],
+            yaw_rad,
+        }
+    }
+
+    fn run(bumper: &mut Bumper, frames: usize, at: impl Fn(usize) -> RoverPose) -> BumperEvent {
+        let mut last = BumperEvent::Clear;
+        for frame in 0..frames {
+            last = bumper.observe(at(frame), frame as f64 * 0.1, true);
+            if matches!(last, BumperEvent::Stuck { .. }) {
+                return last;
+            }
+        }
+        last
+    }
+
+    #[test]
+    fn turning_on_the_spot_is_progress_not_a_stall() {
+        let mut bumper = Bumper::new(&NavigatorConfig::default());
+        // Half a turn at 0.3 rad/s takes ~10 s without moving.
+        let event = run(&mut bumper, 100, |frame| pose(0.0, frame as f64 * 0.03));
+        assert_eq!(event, BumperEvent::Clear);
+        assert_eq!(bumper.stalls(), 0);
+    }
+
+    #[test]
+    fn a_rover_that_neither_moves_nor_turns_is_stuck_and_backs_off_then_resumes() {
+        let config = NavigatorConfig::default();
+        let mut bumper = Bumper::new(&config);
+        let event = run(&mut bumper, 100, |_| pose(2.0, 0.0));
+        let BumperEvent::Stuck { obstacle_m } = event else {
+            panic!("not stuck: {event:?}");
+        };
+        assert!(obstacle_m[0] > 2.4 && obstacle_m[0] < 3.0, "{obstacle_m:?}");
+        assert_eq!(bumper.stalls(), 1);
+        // Backing off until it is back_off_m behind.
+        let waypoint = bumper.back_off_waypoint().unwrap();
+        assert!(waypoint[0] < 2.0 - config.back_off_m);
+        let stuck_s = config.stall_time_s;
+        assert_eq!(
+            bumper.observe(pose(1.8, 0.0), stuck_s + 0.5, true),
+            BumperEvent::BackingOff
+        );
+        assert_eq!(
+            bumper.observe(pose(2.0 - config.back_off_m, 0.0), stuck_s + 1.0, true),
+            BumperEvent::Clear
+        );
+        assert_eq!(bumper.back_off_waypoint(), None);
+    }
+
+    #[test]
+    fn a_blocked_back_off_gives_up_after_its_timeout() {
+        let config = NavigatorConfig::default();
+        let mut bumper = Bumper::new(&config);
+        let event = run(&mut bumper, 100, |_| pose(0.0, 0.0));
+        assert!(matches!(event, BumperEvent::Stuck { .. }));
+        // Stuck after stall_time_s (frames from t = 0); the back-off makes no progress either.
+        let stuck_s = config.stall_time_s;
+        assert_eq!(
+            bumper.observe(pose(0.0, 0.0), stuck_s + 0.5, true),
+            BumperEvent::BackingOff
+        );
+        let later_s = stuck_s + config.back_off_timeout_s + 0.2;
+        assert_eq!(
+            bumper.observe(pose(0.0, 0.0), later_s, true),
+            BumperEvent::Clear
+        );
+    }
+
+    #[test]
+    fn holding_still_is_not_a_stall() {
+        let mut bumper = Bumper::new(&NavigatorConfig::default());
+        for frame in 0..200 {
+            assert_eq!(
+                bumper.observe(pose(0.0, 0.0), frame as f64 * 0.1, false),
+                BumperEvent::Clear
+            );
+        }
+    }
+}

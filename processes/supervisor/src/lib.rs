@@ -11,6 +11,7 @@ mod error;
 pub mod fault_injector;
 mod frame_loop;
 mod launch;
+pub mod map_accuracy;
 pub mod mission;
 pub mod mission_report;
 pub mod report;

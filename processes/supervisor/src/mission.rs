@@ -11,6 +11,7 @@ use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
 use iceoryx2::node::Node;
 
+use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::mission_report::MissionReport;
 
 /// The planner holding "unreachable" this long ends the mission as failed, seconds.
@@ -32,9 +33,21 @@ struct Geometry {
     cell_size_m: f64,
 }
 
+/// The mapper's default obstacle threshold (`mapper.traversable_height_m`), metres.
+const DEFAULT_TRAVERSABLE_HEIGHT_M: f64 = 0.15;
+/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
+const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
+/// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
+/// clouds' height noise is a few centimetres), metres.
+const HEIGHT_TOLERANCE_M: f64 = 0.05;
+
 /// Mission bookkeeping of one launch.
 pub struct MissionObserver {
     mode: hopnav_config::MissionMode,
+    /// The world, regenerated at the end to score the map (evaluation only).
+    world: hopnav_world::WorldConfig,
+    traversable_height_m: f64,
+    climbable_height_m: f64,
     start_m: Option<[f64; 2]>,
     goal_m: Option<[f64; 2]>,
     truth: Subscriber<BodyStates>,
@@ -61,10 +74,33 @@ impl MissionObserver {
     pub fn open(node: &Node<IpcService>, config: &HopnavConfig) -> Option<Self> {
         let world: hopnav_world::WorldConfig =
             hopnav_config::parse_section(config, "world").ok()?;
+        let float_key = |table: &str, path: &[&str], default: f64| {
+            let lookup = || {
+                let mut value = config.sections.get(table)?;
+                for key in path {
+                    value = value.get(*key)?;
+                }
+                value
+                    .as_float()
+                    .or_else(|| value.as_integer().map(|i| i as f64))
+            };
+            lookup().unwrap_or(default)
+        };
         Some(Self {
             mode: config.mission.mode,
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
+            traversable_height_m: float_key(
+                "mapper",
+                &["traversable_height_m"],
+                DEFAULT_TRAVERSABLE_HEIGHT_M,
+            ),
+            climbable_height_m: float_key(
+                "physics",
+                &["rover", "max_climbable_height_m"],
+                DEFAULT_CLIMBABLE_HEIGHT_M,
+            ),
+            world,
             truth: Subscriber::open(node, &topics::BODY_STATES).ok()?,
             paths: SliceSubscriber::open(node, &topics::PATH).ok()?,
             maps: SliceSubscriber::open(node, &topics::MAP_UPDATES).ok()?,
@@ -195,8 +231,50 @@ impl MissionObserver {
             collisions: self.collisions,
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
-            inflated_cells: count(CellClass::Inflated),
+            inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
+            map_accuracy: self.map_accuracy(),
         }
+    }
+
+    /// The final map's obstacles against the world's rocks; `None` without a map or when the
+    /// world cannot be regenerated.
+    fn map_accuracy(&self) -> Option<MapAccuracy> {
+        let geometry = self.geometry?;
+        let world = hopnav_world::World::generate(&self.world).ok()?;
+        let rocks: Vec<RockFootprint> = world
+            .rocks()
+            .iter()
+            .map(|rock| RockFootprint {
+                center_m: [rock.center_m[0], rock.center_m[1]],
+                radius_m: rock.bounding_radius_m(),
+                height_m: rock.height_m,
+            })
+            .collect();
+        let rover_bit = 1u32 << Robot::Rover.code();
+        let jumper_bit = 1u32 << Robot::Jumper.code();
+        let size_m = geometry.cell_size_m;
+        let cells: Vec<ObstacleCell> = self
+            .cells
+            .iter()
+            .filter(|(_, view)| view.class == CellClass::Obstacle)
+            .map(|(&(x, y), view)| ObstacleCell {
+                center_m: [
+                    geometry.origin_m.0 + (f64::from(x) + 0.5) * size_m,
+                    geometry.origin_m.1 + (f64::from(y) + 0.5) * size_m,
+                ],
+                by_rover: view.observed_by & rover_bit != 0,
+                by_jumper: view.observed_by & jumper_bit != 0,
+            })
+            .collect();
+        let track_m: Vec<[f64; 2]> = self.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
+        Some(map_accuracy::evaluate(
+            &rocks,
+            &cells,
+            &track_m,
+            size_m,
+            self.traversable_height_m - HEIGHT_TOLERANCE_M,
+            self.climbable_height_m,
+        ))
     }
 
     /// The Fig.-6 figure of this launch, with the rover's and the jumper's true tracks.
@@ -243,7 +321,7 @@ impl MissionObserver {
                     CellClass::Unknown => return None,
                     CellClass::Free => MappedClass::Free,
                     CellClass::Obstacle => MappedClass::Obstacle,
-                    CellClass::Inflated => MappedClass::Inflated,
+                    CellClass::Inflated | CellClass::Lethal => MappedClass::Inflated,
                 };
                 let observer = match (
                     view.observed_by & rover_bit != 0,

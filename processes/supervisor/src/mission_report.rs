@@ -37,6 +37,8 @@ pub struct MissionReport {
     pub obstacle_cells: usize,
     /// Of them, inflated.
     pub inflated_cells: usize,
+    /// Obstacle cells against the world's rocks (evaluation only).
+    pub map_accuracy: Option<crate::map_accuracy::MapAccuracy>,
 }
 
 impl MissionReport {
@@ -64,6 +66,20 @@ impl MissionReport {
             self.mapped_cells,
             self.obstacle_cells,
             self.inflated_cells
-        )
+        )?;
+        if let Some(accuracy) = &self.map_accuracy {
+            writeln!(
+                out,
+                "map vs truth: {} obstacle cells on rocks, {} false (rover {}, jumper {}, both {}); rocks the rover cannot climb near its track: {} of {} mapped",
+                accuracy.true_obstacle_cells,
+                accuracy.false_obstacle_cells(),
+                accuracy.false_by_rover,
+                accuracy.false_by_jumper,
+                accuracy.false_by_both,
+                accuracy.blocking_rocks_found,
+                accuracy.blocking_rocks_near_track
+            )?;
+        }
+        Ok(())
     }
 }

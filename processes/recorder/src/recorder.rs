@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use hopnav_ipc::messages::{
-    AltimeterSample, BodyStates, FrameTick, ImageHeader, ImuSample, PoseEstimate,
+    AltimeterSample, BodyStates, CloudHeader, FrameTick, ImageHeader, ImuSample, PoseEstimate,
 };
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
@@ -11,7 +11,9 @@ use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use serde_json::json;
 
 use crate::RecorderError;
-use crate::writers::{ImageStream, TextFile, write_altimeter, write_imu, write_truth};
+use crate::writers::{
+    ImageStream, TextFile, write_altimeter, write_cloud, write_estimate, write_imu, write_truth,
+};
 
 /// Writes every frame's sensor data and ground truth to a dataset folder.
 pub struct Recorder {
@@ -20,16 +22,21 @@ pub struct Recorder {
     altimeter: Subscriber<AltimeterSample>,
     imu: Subscriber<ImuSample>,
     jumper_poses: Subscriber<PoseEstimate>,
+    rover_poses: Subscriber<PoseEstimate>,
     jumper_images: SliceSubscriber<ImageHeader>,
     rover_stereo: SliceSubscriber<ImageHeader>,
+    jumper_clouds: SliceSubscriber<CloudHeader>,
+    rover_clouds: SliceSubscriber<CloudHeader>,
     jumper_stream: ImageStream,
     rover_left: ImageStream,
     rover_right: ImageStream,
     truth_jumper: TextFile,
     truth_rover: TextFile,
     estimate_jumper: TextFile,
+    estimate_rover: TextFile,
     altimeter_csv: TextFile,
     imu_csv: TextFile,
+    clouds_csv: TextFile,
     cameras: serde_json::Map<String, serde_json::Value>,
 }
 
@@ -46,8 +53,11 @@ impl Recorder {
             altimeter: Subscriber::open(node, &topics::ALTIMETER)?,
             imu: Subscriber::open(node, &topics::IMU)?,
             jumper_poses: Subscriber::open(node, &topics::JUMPER_POSE)?,
+            rover_poses: Subscriber::open(node, &topics::ROVER_POSE)?,
             jumper_images: SliceSubscriber::open(node, &topics::JUMPER_IMAGE)?,
             rover_stereo: SliceSubscriber::open(node, &topics::ROVER_STEREO)?,
+            jumper_clouds: SliceSubscriber::open(node, &topics::JUMPER_CLOUD)?,
+            rover_clouds: SliceSubscriber::open(node, &topics::ROVER_CLOUD)?,
             jumper_stream: ImageStream::create(dir.join("jumper_cam"))?,
             rover_left: ImageStream::create(dir.join("rover_left"))?,
             rover_right: ImageStream::create(dir.join("rover_right"))?,
@@ -63,6 +73,10 @@ impl Recorder {
                 dir.join("estimate_jumper_vo.tum"),
                 "# jumper_vo estimate: t tx ty tz qx qy qz qw",
             )?,
+            estimate_rover: TextFile::create(
+                dir.join("estimate_rover_vo.tum"),
+                "# rover_vo estimate: t tx ty tz qx qy qz qw",
+            )?,
             altimeter_csv: TextFile::create(
                 dir.join("altimeter.csv"),
                 "frame,t_s,pressure_pa,altitude_m,altitude_sigma_m",
@@ -70,6 +84,10 @@ impl Recorder {
             imu_csv: TextFile::create(
                 dir.join("imu.csv"),
                 "frame,t_s,qx,qy,qz,qw,gyro_x_radps,gyro_y_radps,gyro_z_radps,accel_x_mps2,accel_y_mps2,accel_z_mps2",
+            )?,
+            clouds_csv: TextFile::create(
+                dir.join("clouds.csv"),
+                "robot,keyframe,t_s,camera_x_m,camera_y_m,camera_z_m,x_m,y_m,z_m,height_above_ground_m,depth_sigma_m,track_id",
             )?,
             cameras: serde_json::Map::new(),
             dir,
@@ -103,7 +121,9 @@ impl Recorder {
         self.truth_jumper.flush()?;
         self.truth_rover.flush()?;
         self.estimate_jumper.flush()?;
+        self.estimate_rover.flush()?;
         self.altimeter_csv.flush()?;
+        self.clouds_csv.flush()?;
         self.imu_csv.flush()
     }
 
@@ -141,15 +161,16 @@ impl Process for Recorder {
             write_imu(&mut self.imu_csv, &sample)?;
         }
         while let Some(pose) = self.jumper_poses.receive()? {
-            let state = hopnav_ipc::messages::BodyState {
-                world_from_body: pose.world_from_body,
-                ..Default::default()
-            };
-            write_truth(
-                &mut self.estimate_jumper,
-                pose.stamp.sim_time_ns as f64 * 1e-9,
-                &state,
-            )?;
+            write_estimate(&mut self.estimate_jumper, &pose)?;
+        }
+        while let Some(pose) = self.rover_poses.receive()? {
+            write_estimate(&mut self.estimate_rover, &pose)?;
+        }
+        while let Some(cloud) = self.jumper_clouds.receive()? {
+            write_cloud(&mut self.clouds_csv, cloud.header(), cloud.elements())?;
+        }
+        while let Some(cloud) = self.rover_clouds.receive()? {
+            write_cloud(&mut self.clouds_csv, cloud.header(), cloud.elements())?;
         }
         while let Some(image) = self.jumper_images.receive()? {
             let header = *image.header();
@@ -173,8 +194,11 @@ impl Process for Recorder {
             + self.altimeter.rejected().total()
             + self.imu.rejected().total()
             + self.jumper_poses.rejected().total()
+            + self.rover_poses.rejected().total()
             + self.jumper_images.rejected().total()
             + self.rover_stereo.rejected().total()
+            + self.jumper_clouds.rejected().total()
+            + self.rover_clouds.rejected().total()
     }
 
     fn stop(&mut self, context: &ProcessContext) {

@@ -4,7 +4,10 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use hopnav_ipc::messages::{AltimeterSample, BodyState, ImageHeader, ImuSample};
+use hopnav_ipc::messages::{
+    AltimeterSample, BodyState, CloudHeader, FeaturePoint, ImageHeader, ImuSample, PoseEstimate,
+    Robot,
+};
 
 use crate::RecorderError;
 use crate::formats::pgm::write_pgm;
@@ -112,6 +115,45 @@ pub fn write_truth(file: &mut TextFile, t_s: f64, body: &BodyState) -> Result<()
         orientation_xyzw: body.world_from_body.orientation_xyzw,
     };
     file.append(|out| write_tum_line(out, &pose))
+}
+
+/// Appends a VO pose estimate as a TUM line stamped with its sim time.
+pub fn write_estimate(file: &mut TextFile, pose: &PoseEstimate) -> Result<(), RecorderError> {
+    let pose = TumPose {
+        t_s: pose.stamp.sim_time_ns as f64 * 1e-9,
+        position_m: pose.world_from_body.position_m,
+        orientation_xyzw: pose.world_from_body.orientation_xyzw,
+    };
+    file.append(|out| write_tum_line(out, &pose))
+}
+
+/// Appends the points of one feature cloud, each with the camera position it was seen from.
+pub fn write_cloud(
+    file: &mut TextFile,
+    header: &CloudHeader,
+    points: &[FeaturePoint],
+) -> Result<(), RecorderError> {
+    let t_s = header.stamp.sim_time_ns as f64 * 1e-9;
+    let [cx, cy, cz] = header.world_from_camera.position_m;
+    let robot = match Robot::from_code(header.robot) {
+        Some(Robot::Jumper) => "jumper",
+        Some(Robot::Rover) => "rover",
+        None => "unknown",
+    };
+    file.append(|out| {
+        for point in points {
+            let [x, y, z] = point.position_m;
+            writeln!(
+                out,
+                "{robot},{},{t_s:.3},{cx:.3},{cy:.3},{cz:.3},{x:.3},{y:.3},{z:.3},{:.3},{:.4},{}",
+                header.keyframe_index,
+                point.height_above_ground_m,
+                point.depth_sigma_m,
+                point.track_id
+            )?;
+        }
+        Ok(())
+    })
 }
 
 /// Appends an altimeter sample.

@@ -158,6 +158,10 @@ pub enum KltError {
 pub struct KltTracker {
     config: KltConfig,
     capacity: usize,
+    /// Row stride of the template, gradient and window buffers: the window width `2r+1`
+    /// rounded up to [`LANES`], the extra columns zero (they add nothing to the sums), so the
+    /// inner loops run on whole SIMD lanes.
+    row_stride: usize,
     template: Vec<f32>,
     template_gx: Vec<f32>,
     template_gy: Vec<f32>,
@@ -214,13 +218,15 @@ impl KltTracker {
             return bad("max_mean_abs_residual", r.to_string(), "> 0");
         }
         let n = 2 * config.window_radius_px + 1;
+        let m = n.next_multiple_of(LANES);
         Ok(Self {
             config,
             capacity: max_points,
-            template: vec![0.0; n * n],
-            template_gx: vec![0.0; n * n],
-            template_gy: vec![0.0; n * n],
-            window: vec![0.0; n * n],
+            row_stride: m,
+            template: vec![0.0; n * m],
+            template_gx: vec![0.0; n * m],
+            template_gy: vec![0.0; n * m],
+            window: vec![0.0; n * m],
             padded_template: vec![0.0; (n + 2) * (n + 2)],
             order: Vec::with_capacity(max_points),
             guesses: Vec::with_capacity(max_points),
@@ -421,7 +427,8 @@ impl KltTracker {
             return (result, TrackStatus::OutOfBounds);
         }
         if check_residual && let Some(limit) = self.config.max_mean_abs_residual {
-            sample_window(&base.image, result, r, &mut self.window);
+            // The padding columns are zero in both buffers.
+            sample_window_strided(&base.image, result, r, self.row_stride, &mut self.window);
             let sad: f32 = self
                 .template
                 .iter()
@@ -463,6 +470,7 @@ impl KltTracker {
         template_from_padded(
             &self.padded_template,
             2 * r + 1,
+            self.row_stride,
             &mut self.template,
             &mut self.template_gx,
             &mut self.template_gy,
@@ -490,6 +498,7 @@ impl KltTracker {
                 &lt.image,
                 q,
                 r,
+                self.row_stride,
                 &self.template,
                 &self.template_gx,
                 &self.template_gy,
@@ -562,13 +571,59 @@ fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32])
     }
 }
 
+/// SIMD width the window rows are padded to (four `f32`: SSE2, the x86-64 baseline).
+const LANES: usize = 4;
+
+/// Like [`sample_window`], into rows of `stride ≥ 2r+1` elements; the columns past `2r+1`
+/// are set to zero.
+fn sample_window_strided(
+    plane: &PaddedPlane,
+    p: Point2<f32>,
+    r: usize,
+    stride: usize,
+    out: &mut [f32],
+) {
+    let n = 2 * r + 1;
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
+    let (a, b) = (p.x - fx, p.y - fy);
+    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
+    let x0 = fx as isize - r as isize;
+    let y0 = fy as isize - r as isize;
+    let plane_stride = plane.stride();
+    let data = plane.data();
+    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
+        let i0 = plane.index(x0, y0 + k as isize);
+        let row0 = &data[i0..i0 + n + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + n + 1];
+        let (o_row, o_pad) = o_row.split_at_mut(n);
+        for ((((o, &p00), &p01), &p10), &p11) in o_row
+            .iter_mut()
+            .zip(&row0[..n])
+            .zip(&row0[1..])
+            .zip(&row1[..n])
+            .zip(&row1[1..])
+        {
+            *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
+        }
+        o_pad.fill(0.0);
+    }
+}
+
 /// `(Σ (I − J) gx, Σ (I − J) gy)` with `J` the bilinear `(2r+1)²` window of `plane` at `p`
 /// (caller checked [`window_fits`]): [`sample_window`] and [`mismatch`] in one pass, without
 /// writing the window.
+///
+/// `template`, `gx` and `gy` have rows of `stride` elements (a multiple of [`LANES`], at most
+/// `2r+1 + LANES − 1`), zero past column `2r+1`. Whole lanes are computed with one partial sum
+/// per lane, which the compiler keeps in SIMD registers; the padding columns read up to
+/// `LANES − 1` pixels past the window's right edge (still inside the padded plane: see below),
+/// and their zero gradients cancel them.
 fn sampled_mismatch(
     plane: &PaddedPlane,
     p: Point2<f32>,
     r: usize,
+    stride: usize,
     template: &[f32],
     gx: &[f32],
     gy: &[f32],
@@ -580,35 +635,148 @@ fn sampled_mismatch(
     let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
     let x0 = fx as isize - r as isize;
     let y0 = fy as isize - r as isize;
-    let stride = plane.stride();
+    let plane_stride = plane.stride();
     let data = plane.data();
-    let (mut sx, mut sy) = (0.0f32, 0.0f32);
+    let mut acc = LaneSums::new();
     for (k, ((t_row, x_row), y_row)) in template
-        .chunks_exact(n)
-        .zip(gx.chunks_exact(n))
-        .zip(gy.chunks_exact(n))
+        .chunks_exact(stride)
+        .zip(gx.chunks_exact(stride))
+        .zip(gy.chunks_exact(stride))
+        .take(n)
         .enumerate()
     {
+        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and two more rows
+        // below the window, so reading `stride + 1 ≤ n + LANES` elements from the window's
+        // left edge stays inside `data` (at worst it runs into the next row's left border,
+        // whose values the zero padding of the gradients cancels).
         let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + n + 1];
-        let row1 = &data[i0 + stride..i0 + stride + n + 1];
-        let (mut rx, mut ry) = (0.0f32, 0.0f32);
-        for c in 0..n {
-            let j = w00 * row0[c] + w01 * row0[c + 1] + w10 * row1[c] + w11 * row1[c + 1];
-            let diff = t_row[c] - j;
-            rx += diff * x_row[c];
-            ry += diff * y_row[c];
+        let row0 = &data[i0..i0 + stride + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + stride + 1];
+        for c in (0..stride).step_by(LANES) {
+            acc.add(
+                [w00, w01, w10, w11],
+                &row0[c..c + LANES + 1],
+                &row1[c..c + LANES + 1],
+                &t_row[c..c + LANES],
+                &x_row[c..c + LANES],
+                &y_row[c..c + LANES],
+            );
         }
-        sx += rx;
-        sy += ry;
     }
-    (sx, sy)
+    acc.sums()
 }
 
-/// Splits a `(n+2)²` window into the inner `n²` template and its central-difference gradients.
+/// Per-lane partial sums of `(I − J) gx` and `(I − J) gy` for [`sampled_mismatch`]: SSE2
+/// registers on x86-64 (the compiler's own vectorization of this loop interleaves the two sums
+/// and shuffles more than it computes), plain arrays elsewhere.
+#[cfg(target_arch = "x86_64")]
+struct LaneSums {
+    x: std::arch::x86_64::__m128,
+    y: std::arch::x86_64::__m128,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl LaneSums {
+    #[inline(always)]
+    fn new() -> Self {
+        use std::arch::x86_64::_mm_setzero_ps;
+        // SAFETY: SSE is part of the x86-64 baseline: every x86-64 CPU has it.
+        let zero = unsafe { _mm_setzero_ps() };
+        Self { x: zero, y: zero }
+    }
+
+    /// Adds lanes `0..LANES`: `J = w · (row0[l], row0[l+1], row1[l], row1[l+1])`. The slices
+    /// are at least `LANES + 1` (rows) and `LANES` (the rest) long.
+    #[inline(always)]
+    fn add(&mut self, w: [f32; 4], row0: &[f32], row1: &[f32], t: &[f32], gx: &[f32], gy: &[f32]) {
+        use std::arch::x86_64::{_mm_add_ps, _mm_mul_ps, _mm_set1_ps, _mm_sub_ps};
+        let (r0a, r0b, r1a, r1b) = (
+            load4(row0, 0),
+            load4(row0, 1),
+            load4(row1, 0),
+            load4(row1, 1),
+        );
+        let (tv, xv, yv) = (load4(t, 0), load4(gx, 0), load4(gy, 0));
+        // SAFETY: SSE is part of the x86-64 baseline: every x86-64 CPU has it; these
+        // intrinsics only compute on registers.
+        unsafe {
+            let j = _mm_add_ps(
+                _mm_add_ps(
+                    _mm_mul_ps(_mm_set1_ps(w[0]), r0a),
+                    _mm_mul_ps(_mm_set1_ps(w[1]), r0b),
+                ),
+                _mm_add_ps(
+                    _mm_mul_ps(_mm_set1_ps(w[2]), r1a),
+                    _mm_mul_ps(_mm_set1_ps(w[3]), r1b),
+                ),
+            );
+            let diff = _mm_sub_ps(tv, j);
+            self.x = _mm_add_ps(self.x, _mm_mul_ps(diff, xv));
+            self.y = _mm_add_ps(self.y, _mm_mul_ps(diff, yv));
+        }
+    }
+
+    #[inline(always)]
+    fn sums(&self) -> (f32, f32) {
+        let (mut x, mut y) = ([0.0f32; 4], [0.0f32; 4]);
+        // SAFETY: `x` and `y` are 4-float arrays, exactly the 16 bytes `_mm_storeu_ps`
+        // writes; it has no alignment requirement.
+        unsafe {
+            std::arch::x86_64::_mm_storeu_ps(x.as_mut_ptr(), self.x);
+            std::arch::x86_64::_mm_storeu_ps(y.as_mut_ptr(), self.y);
+        }
+        (x.iter().sum(), y.iter().sum())
+    }
+}
+
+/// Four floats of `s` from `offset` as an SSE register; panics if `s` is shorter.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn load4(s: &[f32], offset: usize) -> std::arch::x86_64::__m128 {
+    let v = &s[offset..offset + 4];
+    // SAFETY: `v` has exactly 4 initialized `f32` (the slice indexing above checked it), the
+    // 16 bytes `_mm_loadu_ps` reads; it has no alignment requirement.
+    unsafe { std::arch::x86_64::_mm_loadu_ps(v.as_ptr()) }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+struct LaneSums {
+    x: [f32; LANES],
+    y: [f32; LANES],
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl LaneSums {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            x: [0.0; LANES],
+            y: [0.0; LANES],
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, w: [f32; 4], row0: &[f32], row1: &[f32], t: &[f32], gx: &[f32], gy: &[f32]) {
+        for l in 0..LANES {
+            let j = w[0] * row0[l] + w[1] * row0[l + 1] + w[2] * row1[l] + w[3] * row1[l + 1];
+            let diff = t[l] - j;
+            self.x[l] += diff * gx[l];
+            self.y[l] += diff * gy[l];
+        }
+    }
+
+    #[inline(always)]
+    fn sums(&self) -> (f32, f32) {
+        (self.x.iter().sum(), self.y.iter().sum())
+    }
+}
+
+/// Splits a `(n+2)²` window into the inner `n²` template and its central-difference gradients,
+/// with rows of `stride ≥ n` elements whose columns past `n` are zero.
 fn template_from_padded(
     padded: &[f32],
     n: usize,
+    stride: usize,
     template: &mut [f32],
     gx: &mut [f32],
     gy: &mut [f32],
@@ -618,14 +786,17 @@ fn template_from_padded(
         let up = &padded[k * m..k * m + m];
         let mid = &padded[(k + 1) * m..(k + 1) * m + m];
         let down = &padded[(k + 2) * m..(k + 2) * m + m];
-        let t = &mut template[k * n..k * n + n];
-        let x = &mut gx[k * n..k * n + n];
-        let y = &mut gy[k * n..k * n + n];
+        let t = &mut template[k * stride..k * stride + stride];
+        let x = &mut gx[k * stride..k * stride + stride];
+        let y = &mut gy[k * stride..k * stride + stride];
         for c in 0..n {
             t[c] = mid[c + 1];
             x[c] = 0.5 * (mid[c + 2] - mid[c]);
             y[c] = 0.5 * (down[c + 1] - up[c + 1]);
         }
+        t[n..].fill(0.0);
+        x[n..].fill(0.0);
+        y[n..].fill(0.0);
     }
 }
 
@@ -753,22 +924,40 @@ mod tests {
         let tex = BlobTexture::random(W, H, 350, 21);
         let (pyr, _) = pyramid_of(&tex, &AffineWarp::identity());
         let plane = &pyr.level(0).unwrap().image;
-        let r = 5;
-        let n = 2 * r + 1;
-        let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
-        let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
-        let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
-        for p in [
-            Point2::new(40.3f32, 50.7),
-            Point2::new(-3.5, 7.25),
-            Point2::new(9.0, 9.0),
-        ] {
-            let mut window = vec![0.0; n * n];
-            sample_window(plane, p, r, &mut window);
-            let (ax, ay) = mismatch(&template, &window, &gx, &gy);
-            let (bx, by) = sampled_mismatch(plane, p, r, &template, &gx, &gy);
-            assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
-            assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
+        // Every remainder of 2r+1 modulo LANES, including windows that end at the last column
+        // `window_fits` allows.
+        for r in [2usize, 3, 4, 5, 6] {
+            let n = 2 * r + 1;
+            let m = n.next_multiple_of(LANES);
+            let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
+            let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
+            let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
+            let strided = |v: &[f32]| {
+                let mut out = vec![0.0; n * m];
+                for k in 0..n {
+                    out[k * m..k * m + n].copy_from_slice(&v[k * n..k * n + n]);
+                }
+                out
+            };
+            let (ts, xs, ys) = (strided(&template), strided(&gx), strided(&gy));
+            let edge = W as f32 + plane.pad() as f32 - r as f32 - 3.01;
+            for p in [
+                Point2::new(40.3f32, 50.7),
+                Point2::new(-3.5, 7.25),
+                Point2::new(9.0, 9.0),
+                Point2::new(edge, edge),
+            ] {
+                assert!(window_fits(plane, p, r));
+                let mut window = vec![0.0; n * n];
+                sample_window(plane, p, r, &mut window);
+                let (ax, ay) = mismatch(&template, &window, &gx, &gy);
+                let (bx, by) = sampled_mismatch(plane, p, r, m, &ts, &xs, &ys);
+                assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
+                assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
+                let mut window_strided = vec![1.0; n * m];
+                sample_window_strided(plane, p, r, m, &mut window_strided);
+                assert_eq!(window_strided, strided(&window));
+            }
         }
         assert_eq!(fast_floor(-3.5), -4.0);
         assert_eq!(fast_floor(2.0), 2.0);

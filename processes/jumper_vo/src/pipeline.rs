@@ -390,8 +390,8 @@ impl JumperVo {
             let b2 = self.x2[i].push(1.0).normalize();
             self.parallax.push(b1.angle(&b2));
         }
-        self.parallax.sort_by(f64::total_cmp);
-        let median_parallax_rad = self.parallax[self.parallax.len() / 2];
+        let mid = self.parallax.len() / 2;
+        let median_parallax_rad = *self.parallax.select_nth_unstable_by(mid, f64::total_cmp).1;
         self.keep.clear();
         self.keep.resize(self.x1.len(), false);
         for &i in inliers {

@@ -37,6 +37,7 @@
 //! ```
 
 use crate::pyramid::{PaddedPlane, Pyramid};
+use crate::simd::{F4, LANES};
 use nalgebra::{Point2, Vector2};
 
 /// Tracker settings.
@@ -166,7 +167,11 @@ pub struct KltTracker {
     template_gx: Vec<f32>,
     template_gy: Vec<f32>,
     window: Vec<f32>,
+    /// The `(n+2)²` intensity window the template and its gradients come from, in rows of
+    /// `row_stride + LANES` (room for the lanes of the last column block's right neighbour).
     padded_template: Vec<f32>,
+    /// 1 for the `2r+1` window columns of a `row_stride` row, 0 for the padding.
+    lane_mask: Vec<f32>,
     /// Processing order (raster order of the start points).
     order: Vec<u32>,
     /// Forward initial guesses (needed to mirror the backward guess).
@@ -227,7 +232,8 @@ impl KltTracker {
             template_gx: vec![0.0; n * m],
             template_gy: vec![0.0; n * m],
             window: vec![0.0; n * m],
-            padded_template: vec![0.0; (n + 2) * (n + 2)],
+            padded_template: vec![0.0; (n + 2) * (m + LANES)],
+            lane_mask: (0..m).map(|c| if c < n { 1.0 } else { 0.0 }).collect(),
             order: Vec::with_capacity(max_points),
             guesses: Vec::with_capacity(max_points),
             fb_errors_px: Vec::with_capacity(max_points),
@@ -466,16 +472,22 @@ impl KltTracker {
         // One (n+2)² intensity window; the template and its central-difference gradients come
         // from it (cheaper than sampling three planes; the LK fixed point does not depend on the
         // gradient approximation, only the convergence rate does).
-        sample_window(&lf.image, p, r + 1, &mut self.padded_template);
-        template_from_padded(
+        let padded_stride = self.row_stride + LANES;
+        sample_window_strided(
+            &lf.image,
+            p,
+            r + 1,
+            padded_stride,
+            &mut self.padded_template,
+        );
+        let (gxx, gxy, gyy) = template_from_padded(
             &self.padded_template,
-            2 * r + 1,
-            self.row_stride,
+            padded_stride,
+            &self.lane_mask,
             &mut self.template,
             &mut self.template_gx,
             &mut self.template_gy,
         );
-        let (gxx, gxy, gyy) = structure_tensor(&self.template_gx, &self.template_gy);
         let det = gxx * gyy - gxy * gxy;
         let min_eig =
             0.5 * (gxx + gyy - ((gxx - gyy) * (gxx - gyy) + 4.0 * gxy * gxy).sqrt()) / n_px;
@@ -544,7 +556,9 @@ fn fast_floor(v: f32) -> f32 {
     ((v + FLOOR_OFFSET) as i32) as f32 - FLOOR_OFFSET
 }
 
-/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]).
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]):
+/// the reference of [`sample_window_strided`].
+#[cfg(test)]
 fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32]) {
     let n = 2 * r + 1;
     let fx = fast_floor(p.x);
@@ -571,10 +585,8 @@ fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32])
     }
 }
 
-/// SIMD width the window rows are padded to (four `f32`: SSE2, the x86-64 baseline).
-const LANES: usize = 4;
-
-/// Like [`sample_window`], into rows of `stride ≥ 2r+1` elements; the columns past `2r+1`
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]),
+/// into rows of `stride ≥ 2r+1` elements; the columns past `2r+1`
 /// are set to zero.
 fn sample_window_strided(
     plane: &PaddedPlane,
@@ -637,7 +649,13 @@ fn sampled_mismatch(
     let y0 = fy as isize - r as isize;
     let plane_stride = plane.stride();
     let data = plane.data();
-    let mut acc = LaneSums::new();
+    let (w00, w01, w10, w11) = (
+        F4::splat(w00),
+        F4::splat(w01),
+        F4::splat(w10),
+        F4::splat(w11),
+    );
+    let (mut sx, mut sy) = (F4::zero(), F4::zero());
     for (k, ((t_row, x_row), y_row)) in template
         .chunks_exact(stride)
         .zip(gx.chunks_exact(stride))
@@ -653,175 +671,54 @@ fn sampled_mismatch(
         let row0 = &data[i0..i0 + stride + 1];
         let row1 = &data[i0 + plane_stride..i0 + plane_stride + stride + 1];
         for c in (0..stride).step_by(LANES) {
-            acc.add(
-                [w00, w01, w10, w11],
-                &row0[c..c + LANES + 1],
-                &row1[c..c + LANES + 1],
-                &t_row[c..c + LANES],
-                &x_row[c..c + LANES],
-                &y_row[c..c + LANES],
-            );
+            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
+                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
+            let diff = F4::load(t_row, c) - j;
+            sx = sx + diff * F4::load(x_row, c);
+            sy = sy + diff * F4::load(y_row, c);
         }
     }
-    acc.sums()
+    (sx.sum(), sy.sum())
 }
 
-/// Per-lane partial sums of `(I − J) gx` and `(I − J) gy` for [`sampled_mismatch`]: SSE2
-/// registers on x86-64 (the compiler's own vectorization of this loop interleaves the two sums
-/// and shuffles more than it computes), plain arrays elsewhere.
-#[cfg(target_arch = "x86_64")]
-struct LaneSums {
-    x: std::arch::x86_64::__m128,
-    y: std::arch::x86_64::__m128,
-}
-
-#[cfg(target_arch = "x86_64")]
-impl LaneSums {
-    #[inline(always)]
-    fn new() -> Self {
-        use std::arch::x86_64::_mm_setzero_ps;
-        // SAFETY: SSE is part of the x86-64 baseline: every x86-64 CPU has it.
-        let zero = unsafe { _mm_setzero_ps() };
-        Self { x: zero, y: zero }
-    }
-
-    /// Adds lanes `0..LANES`: `J = w · (row0[l], row0[l+1], row1[l], row1[l+1])`. The slices
-    /// are at least `LANES + 1` (rows) and `LANES` (the rest) long.
-    #[inline(always)]
-    fn add(&mut self, w: [f32; 4], row0: &[f32], row1: &[f32], t: &[f32], gx: &[f32], gy: &[f32]) {
-        use std::arch::x86_64::{_mm_add_ps, _mm_mul_ps, _mm_set1_ps, _mm_sub_ps};
-        let (r0a, r0b, r1a, r1b) = (
-            load4(row0, 0),
-            load4(row0, 1),
-            load4(row1, 0),
-            load4(row1, 1),
-        );
-        let (tv, xv, yv) = (load4(t, 0), load4(gx, 0), load4(gy, 0));
-        // SAFETY: SSE is part of the x86-64 baseline: every x86-64 CPU has it; these
-        // intrinsics only compute on registers.
-        unsafe {
-            let j = _mm_add_ps(
-                _mm_add_ps(
-                    _mm_mul_ps(_mm_set1_ps(w[0]), r0a),
-                    _mm_mul_ps(_mm_set1_ps(w[1]), r0b),
-                ),
-                _mm_add_ps(
-                    _mm_mul_ps(_mm_set1_ps(w[2]), r1a),
-                    _mm_mul_ps(_mm_set1_ps(w[3]), r1b),
-                ),
-            );
-            let diff = _mm_sub_ps(tv, j);
-            self.x = _mm_add_ps(self.x, _mm_mul_ps(diff, xv));
-            self.y = _mm_add_ps(self.y, _mm_mul_ps(diff, yv));
-        }
-    }
-
-    #[inline(always)]
-    fn sums(&self) -> (f32, f32) {
-        let (mut x, mut y) = ([0.0f32; 4], [0.0f32; 4]);
-        // SAFETY: `x` and `y` are 4-float arrays, exactly the 16 bytes `_mm_storeu_ps`
-        // writes; it has no alignment requirement.
-        unsafe {
-            std::arch::x86_64::_mm_storeu_ps(x.as_mut_ptr(), self.x);
-            std::arch::x86_64::_mm_storeu_ps(y.as_mut_ptr(), self.y);
-        }
-        (x.iter().sum(), y.iter().sum())
-    }
-}
-
-/// Four floats of `s` from `offset` as an SSE register; panics if `s` is shorter.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn load4(s: &[f32], offset: usize) -> std::arch::x86_64::__m128 {
-    let v = &s[offset..offset + 4];
-    // SAFETY: `v` has exactly 4 initialized `f32` (the slice indexing above checked it), the
-    // 16 bytes `_mm_loadu_ps` reads; it has no alignment requirement.
-    unsafe { std::arch::x86_64::_mm_loadu_ps(v.as_ptr()) }
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-struct LaneSums {
-    x: [f32; LANES],
-    y: [f32; LANES],
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-impl LaneSums {
-    #[inline(always)]
-    fn new() -> Self {
-        Self {
-            x: [0.0; LANES],
-            y: [0.0; LANES],
-        }
-    }
-
-    #[inline(always)]
-    fn add(&mut self, w: [f32; 4], row0: &[f32], row1: &[f32], t: &[f32], gx: &[f32], gy: &[f32]) {
-        for l in 0..LANES {
-            let j = w[0] * row0[l] + w[1] * row0[l + 1] + w[2] * row1[l] + w[3] * row1[l + 1];
-            let diff = t[l] - j;
-            self.x[l] += diff * gx[l];
-            self.y[l] += diff * gy[l];
-        }
-    }
-
-    #[inline(always)]
-    fn sums(&self) -> (f32, f32) {
-        (self.x.iter().sum(), self.y.iter().sum())
-    }
-}
-
-/// Splits a `(n+2)²` window into the inner `n²` template and its central-difference gradients,
-/// with rows of `stride ≥ n` elements whose columns past `n` are zero.
+/// Splits a `(n+2)²` window (rows of `padded_stride = stride + LANES` elements) into the inner
+/// `n²` template and its central-difference gradients, in rows of `stride = mask.len()`
+/// elements that are zero where `mask` is 0 (past column `n`); returns the structure tensor
+/// `(Σ gx², Σ gx gy, Σ gy²)`.
 fn template_from_padded(
     padded: &[f32],
-    n: usize,
-    stride: usize,
+    padded_stride: usize,
+    mask: &[f32],
     template: &mut [f32],
     gx: &mut [f32],
     gy: &mut [f32],
-) {
-    let m = n + 2;
-    for k in 0..n {
-        let up = &padded[k * m..k * m + m];
-        let mid = &padded[(k + 1) * m..(k + 1) * m + m];
-        let down = &padded[(k + 2) * m..(k + 2) * m + m];
-        let t = &mut template[k * stride..k * stride + stride];
-        let x = &mut gx[k * stride..k * stride + stride];
-        let y = &mut gy[k * stride..k * stride + stride];
-        for c in 0..n {
-            t[c] = mid[c + 1];
-            x[c] = 0.5 * (mid[c + 2] - mid[c]);
-            y[c] = 0.5 * (down[c + 1] - up[c + 1]);
-        }
-        t[n..].fill(0.0);
-        x[n..].fill(0.0);
-        y[n..].fill(0.0);
-    }
-}
-
-fn structure_tensor(gx: &[f32], gy: &[f32]) -> (f32, f32, f32) {
-    let (mut xx, mut xy, mut yy) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
-    let (cx, cy) = (gx.chunks_exact(8), gy.chunks_exact(8));
-    let (rx, ry) = (cx.remainder(), cy.remainder());
-    for (a, b) in cx.zip(cy) {
-        for k in 0..8 {
-            xx[k] += a[k] * a[k];
-            xy[k] += a[k] * b[k];
-            yy[k] += b[k] * b[k];
+) -> (f32, f32, f32) {
+    let stride = mask.len();
+    let half = F4::splat(0.5);
+    let (mut xx, mut xy, mut yy) = (F4::zero(), F4::zero(), F4::zero());
+    for (k, ((t, x), y)) in template
+        .chunks_exact_mut(stride)
+        .zip(gx.chunks_exact_mut(stride))
+        .zip(gy.chunks_exact_mut(stride))
+        .enumerate()
+    {
+        let up = &padded[k * padded_stride..(k + 1) * padded_stride];
+        let mid = &padded[(k + 1) * padded_stride..(k + 2) * padded_stride];
+        let down = &padded[(k + 2) * padded_stride..(k + 3) * padded_stride];
+        for c in (0..stride).step_by(LANES) {
+            let m = F4::load(mask, c);
+            let tv = m * F4::load(mid, c + 1);
+            let xv = m * (half * (F4::load(mid, c + 2) - F4::load(mid, c)));
+            let yv = m * (half * (F4::load(down, c + 1) - F4::load(up, c + 1)));
+            tv.store(t, c);
+            xv.store(x, c);
+            yv.store(y, c);
+            xx = xx + xv * xv;
+            xy = xy + xv * yv;
+            yy = yy + yv * yv;
         }
     }
-    let mut s = (
-        xx.iter().sum::<f32>(),
-        xy.iter().sum::<f32>(),
-        yy.iter().sum::<f32>(),
-    );
-    for (a, b) in rx.iter().zip(ry) {
-        s.0 += a * a;
-        s.1 += a * b;
-        s.2 += b * b;
-    }
-    s
+    (xx.sum(), xy.sum(), yy.sum())
 }
 
 /// `(Σ (I − J) gx, Σ (I − J) gy)` of a sampled window (the reference of [`sampled_mismatch`]).
@@ -962,6 +859,47 @@ mod tests {
         assert_eq!(fast_floor(-3.5), -4.0);
         assert_eq!(fast_floor(2.0), 2.0);
         assert_eq!(fast_floor(2.99), 2.0);
+    }
+
+    #[test]
+    fn template_and_tensor_match_scalar_central_differences() {
+        for r in [2usize, 3, 4, 5] {
+            let n = 2 * r + 1;
+            let m = n.next_multiple_of(LANES);
+            let ps = m + LANES;
+            let padded: Vec<f32> = (0..(n + 2) * ps)
+                .map(|i| {
+                    if i % ps < n + 2 {
+                        ((i * 37) % 101) as f32
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let mask: Vec<f32> = (0..m).map(|c| if c < n { 1.0 } else { 0.0 }).collect();
+            let (mut t, mut gx, mut gy) = (vec![9.0; n * m], vec![9.0; n * m], vec![9.0; n * m]);
+            let (xx, xy, yy) = template_from_padded(&padded, ps, &mask, &mut t, &mut gx, &mut gy);
+            let at = |row: usize, col: usize| padded[row * ps + col];
+            let (mut exx, mut exy, mut eyy) = (0.0f64, 0.0f64, 0.0f64);
+            for k in 0..n {
+                for c in 0..m {
+                    let i = k * m + c;
+                    if c >= n {
+                        assert_eq!((t[i], gx[i], gy[i]), (0.0, 0.0, 0.0));
+                        continue;
+                    }
+                    let x = 0.5 * (at(k + 1, c + 2) - at(k + 1, c));
+                    let y = 0.5 * (at(k + 2, c + 1) - at(k, c + 1));
+                    assert_eq!((t[i], gx[i], gy[i]), (at(k + 1, c + 1), x, y));
+                    exx += f64::from(x * x);
+                    exy += f64::from(x * y);
+                    eyy += f64::from(y * y);
+                }
+            }
+            for (got, want) in [(xx, exx), (xy, exy), (yy, eyy)] {
+                assert!((f64::from(got) - want).abs() <= 1e-5 * want.abs().max(1.0));
+            }
+        }
     }
 
     #[test]

@@ -473,7 +473,7 @@ impl KltTracker {
         // from it (cheaper than sampling three planes; the LK fixed point does not depend on the
         // gradient approximation, only the convergence rate does).
         let padded_stride = self.row_stride + LANES;
-        sample_window_strided(
+        sample_window_lanes(
             &lf.image,
             p,
             r + 1,
@@ -619,6 +619,48 @@ fn sample_window_strided(
             *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
         }
         o_pad.fill(0.0);
+    }
+}
+
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`])
+/// into rows of `stride` elements, computed in whole lanes: row `k` gets `2r+1` rounded up to
+/// [`LANES`] samples (`stride` must be at least that); those past column `2r+1` are samples of
+/// the pixels further right (finite, to be masked by the caller), and any further columns are
+/// left as they were.
+fn sample_window_lanes(
+    plane: &PaddedPlane,
+    p: Point2<f32>,
+    r: usize,
+    stride: usize,
+    out: &mut [f32],
+) {
+    let n = 2 * r + 1;
+    let cols = n.next_multiple_of(LANES);
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
+    let (a, b) = (p.x - fx, p.y - fy);
+    let (w00, w01, w10, w11) = (
+        F4::splat((1.0 - a) * (1.0 - b)),
+        F4::splat(a * (1.0 - b)),
+        F4::splat((1.0 - a) * b),
+        F4::splat(a * b),
+    );
+    let x0 = fx as isize - r as isize;
+    let y0 = fy as isize - r as isize;
+    let plane_stride = plane.stride();
+    let data = plane.data();
+    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
+        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and a row below the
+        // window's last, so the `cols + 1 ≤ n + LANES` elements read from the window's left
+        // edge stay inside `data` (at worst they run into the next row's left border).
+        let i0 = plane.index(x0, y0 + k as isize);
+        let row0 = &data[i0..i0 + cols + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + cols + 1];
+        for c in (0..cols).step_by(LANES) {
+            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
+                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
+            j.store(o_row, c);
+        }
     }
 }
 
@@ -854,6 +896,33 @@ mod tests {
                 let mut window_strided = vec![1.0; n * m];
                 sample_window_strided(plane, p, r, m, &mut window_strided);
                 assert_eq!(window_strided, strided(&window));
+                let mut window_lanes = vec![1.0; n * (m + LANES)];
+                sample_window_lanes(plane, p, r, m + LANES, &mut window_lanes);
+                for k in 0..n {
+                    let row = &window_lanes[k * (m + LANES)..(k + 1) * (m + LANES)];
+                    for (c, v) in row.iter().enumerate() {
+                        if c < n {
+                            assert!((v - window[k * n + c]).abs() <= 1e-4, "{v} {c}");
+                        } else if c >= m {
+                            assert_eq!(*v, 1.0, "column {c} past the lanes was written");
+                        } else {
+                            assert!(v.is_finite());
+                        }
+                    }
+                }
+                // As `refine_level` uses it: the template's (n+2)² window where `window_fits`
+                // (which leaves a one-pixel margin for it) just passes.
+                let n2 = n + 2;
+                let mut padded = vec![0.0; n2 * (m + LANES)];
+                sample_window_lanes(plane, p, r + 1, m + LANES, &mut padded);
+                let mut reference = vec![0.0; n2 * n2];
+                sample_window(plane, p, r + 1, &mut reference);
+                for k in 0..n2 {
+                    for c in 0..n2 {
+                        let (got, want) = (padded[k * (m + LANES) + c], reference[k * n2 + c]);
+                        assert!((got - want).abs() <= 1e-4, "{got} {want}");
+                    }
+                }
             }
         }
         assert_eq!(fast_floor(-3.5), -4.0);

@@ -73,8 +73,8 @@ pub fn fill_heights_above_ground(points: &mut [WorldPoint]) -> Option<Vector3<f6
                 p.position_m.z - (coeffs.x * p.position_m.x + coeffs.y * p.position_m.y + coeffs.z);
         }
         let mut abs: Vec<f64> = residuals.iter().map(|v| v.abs()).collect();
-        abs.sort_by(f64::total_cmp);
-        let sigma = 1.4826 * abs[abs.len() / 2] + 1e-3;
+        let half = abs.len() / 2;
+        let sigma = 1.4826 * *abs.select_nth_unstable_by(half, f64::total_cmp).1 + 1e-3;
         for (u, res) in use_point.iter_mut().zip(&residuals) {
             *u = *res < 2.0 * sigma;
         }
@@ -83,28 +83,125 @@ pub fn fill_heights_above_ground(points: &mut [WorldPoint]) -> Option<Vector3<f6
     let plane = plane?;
     // Rolling terrain bends away from one plane: measure each point against the low quartile
     // of its neighbours' residuals (same cloud, so the same pose and scale), which follows the
-    // local ground and leaves rocks standing.
+    // local ground and leaves rocks standing. Neighbours come from a grid of radius-sized
+    // cells (the 3 × 3 cells around a point hold every neighbour), not from all points.
+    let grid = NeighbourGrid::new(points);
     let mut neighbour_residuals = Vec::with_capacity(points.len());
     let local_offsets: Vec<f64> = points
         .iter()
         .map(|p| {
             neighbour_residuals.clear();
-            neighbour_residuals.extend(points.iter().zip(&residuals).filter_map(|(q, res)| {
-                let dx = q.position_m.x - p.position_m.x;
-                let dy = q.position_m.y - p.position_m.y;
-                (dx * dx + dy * dy <= LOCAL_GROUND_RADIUS_M * LOCAL_GROUND_RADIUS_M).then_some(*res)
-            }));
+            grid.for_each_near(&p.position_m, |j| {
+                let q = &points[j].position_m;
+                let dx = q.x - p.position_m.x;
+                let dy = q.y - p.position_m.y;
+                if dx * dx + dy * dy <= LOCAL_GROUND_RADIUS_M * LOCAL_GROUND_RADIUS_M {
+                    neighbour_residuals.push(residuals[j]);
+                }
+            });
             if neighbour_residuals.len() < 8 {
                 return 0.0;
             }
-            neighbour_residuals.sort_by(f64::total_cmp);
-            neighbour_residuals[neighbour_residuals.len() / 4]
+            let k = neighbour_residuals.len() / 4;
+            *neighbour_residuals
+                .select_nth_unstable_by(k, f64::total_cmp)
+                .1
         })
         .collect();
     for ((p, res), offset) in points.iter_mut().zip(&residuals).zip(&local_offsets) {
         p.height_above_ground_m = Some(res - offset);
     }
     Some(plane)
+}
+
+/// Points bucketed in square cells of [`LOCAL_GROUND_RADIUS_M`] over their x–y bounding box.
+struct NeighbourGrid {
+    min_x: f64,
+    min_y: f64,
+    cols: usize,
+    rows: usize,
+    /// `cell_start[c]..cell_start[c + 1]` indexes `order` for cell `c`.
+    cell_start: Vec<usize>,
+    /// Point indices sorted by cell.
+    order: Vec<usize>,
+}
+
+impl NeighbourGrid {
+    /// Cells per axis at most (a degenerate, huge cloud just gets coarser cells' worth of
+    /// neighbours per lookup; the radius test stays exact).
+    const MAX_CELLS_PER_AXIS: usize = 256;
+
+    fn new(points: &[WorldPoint]) -> Self {
+        let (mut min_x, mut min_y) = (f64::INFINITY, f64::INFINITY);
+        let (mut max_x, mut max_y) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for p in points {
+            min_x = min_x.min(p.position_m.x);
+            min_y = min_y.min(p.position_m.y);
+            max_x = max_x.max(p.position_m.x);
+            max_y = max_y.max(p.position_m.y);
+        }
+        let span = |lo: f64, hi: f64| {
+            let cells = ((hi - lo) / LOCAL_GROUND_RADIUS_M).floor();
+            if cells.is_finite() && cells >= 0.0 {
+                (cells as usize + 1).min(Self::MAX_CELLS_PER_AXIS)
+            } else {
+                1
+            }
+        };
+        let (cols, rows) = (span(min_x, max_x), span(min_y, max_y));
+        let mut grid = Self {
+            min_x,
+            min_y,
+            cols,
+            rows,
+            cell_start: vec![0; cols * rows + 1],
+            order: vec![0; points.len()],
+        };
+        for p in points {
+            let c = grid.cell_of(&p.position_m);
+            grid.cell_start[c + 1] += 1;
+        }
+        for c in 0..cols * rows {
+            grid.cell_start[c + 1] += grid.cell_start[c];
+        }
+        let mut fill = grid.cell_start.clone();
+        for (i, p) in points.iter().enumerate() {
+            let c = grid.cell_of(&p.position_m);
+            grid.order[fill[c]] = i;
+            fill[c] += 1;
+        }
+        grid
+    }
+
+    fn coord(&self, v: f64, lo: f64, cells: usize) -> usize {
+        let c = ((v - lo) / LOCAL_GROUND_RADIUS_M).floor();
+        if c.is_finite() && c > 0.0 {
+            (c as usize).min(cells - 1)
+        } else {
+            0
+        }
+    }
+
+    fn cell_of(&self, p: &Point3<f64>) -> usize {
+        self.coord(p.y, self.min_y, self.rows) * self.cols + self.coord(p.x, self.min_x, self.cols)
+    }
+
+    /// Calls `f` with every point index in the 3 × 3 cells around `p` (a superset of the
+    /// points within [`LOCAL_GROUND_RADIUS_M`]).
+    fn for_each_near(&self, p: &Point3<f64>, mut f: impl FnMut(usize)) {
+        let (cx, cy) = (
+            self.coord(p.x, self.min_x, self.cols),
+            self.coord(p.y, self.min_y, self.rows),
+        );
+        for y in cy.saturating_sub(1)..=(cy + 1).min(self.rows - 1) {
+            for x in cx.saturating_sub(1)..=(cx + 1).min(self.cols - 1) {
+                let c = y * self.cols + x;
+                for &i in &self.order[self.cell_start[c]..self.cell_start[c + 1]] {
+                    f(i);
+                }
+            }
+        }
+    }
 }
 
 /// Neighbourhood of the local ground estimate, metres (about a rock's size, well below the
@@ -132,5 +229,75 @@ mod tests {
         assert!((plane.x - 0.1).abs() < 1e-6 && (plane.z - 2.0).abs() < 1e-6);
         assert!((pts[17].height_above_ground_m.unwrap() - 0.8).abs() < 1e-6);
         assert!(pts[1].height_above_ground_m.unwrap().abs() < 1e-6);
+    }
+
+    /// The old all-pairs local-ground offset, as the reference of the grid lookup.
+    fn brute_force_heights(points: &[WorldPoint], plane: &Vector3<f64>) -> Vec<f64> {
+        let residuals: Vec<f64> = points
+            .iter()
+            .map(|p| {
+                p.position_m.z - (plane.x * p.position_m.x + plane.y * p.position_m.y + plane.z)
+            })
+            .collect();
+        points
+            .iter()
+            .zip(&residuals)
+            .map(|(p, res)| {
+                let mut near: Vec<f64> = points
+                    .iter()
+                    .zip(&residuals)
+                    .filter(|(q, _)| {
+                        let (dx, dy) = (
+                            q.position_m.x - p.position_m.x,
+                            q.position_m.y - p.position_m.y,
+                        );
+                        dx * dx + dy * dy <= LOCAL_GROUND_RADIUS_M * LOCAL_GROUND_RADIUS_M
+                    })
+                    .map(|(_, r)| *r)
+                    .collect();
+                if near.len() < 8 {
+                    return *res;
+                }
+                near.sort_by(f64::total_cmp);
+                res - near[near.len() / 4]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn grid_neighbours_match_all_pairs() {
+        // Rolling ground with rocks, scattered over 40 m × 25 m, a few isolated points far out.
+        let mut state = 12345u64;
+        let mut rand = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut pts: Vec<WorldPoint> = (0..600)
+            .map(|i| {
+                let (x, y) = (40.0 * rand() - 13.0, 25.0 * rand() + 4.0);
+                let rock = if i % 13 == 0 { 0.5 + rand() } else { 0.0 };
+                WorldPoint {
+                    depth_sigma_m: 0.0,
+                    position_m: Point3::new(x, y, (0.3 * x).sin() + 0.05 * y + rock),
+                    height_above_ground_m: None,
+                }
+            })
+            .collect();
+        for k in 0..3 {
+            pts.push(WorldPoint {
+                depth_sigma_m: 0.0,
+                position_m: Point3::new(300.0 + 50.0 * k as f64, -80.0, 1.0),
+                height_above_ground_m: None,
+            });
+        }
+        let plane = fill_heights_above_ground(&mut pts).unwrap();
+        let expected = brute_force_heights(&pts, &plane);
+        for (p, e) in pts.iter().zip(&expected) {
+            assert_eq!(p.height_above_ground_m, Some(*e));
+        }
+        // Rocks stand out, the rolling ground does not.
+        assert!(pts[13].height_above_ground_m.unwrap() > 0.3);
     }
 }

@@ -94,6 +94,15 @@ pub struct JumperVoConfig {
     /// Without a vision breakdown, touchdown is declared when the fit has descended this far
     /// below the launch altitude, metres (or, with a static image, at the launch altitude).
     pub touchdown_max_drop_m: f64,
+    /// Commanded launch spin, body frame (x forward, y left, z up), rad/s (Table 1: 0.1 rad/s
+    /// about the pitch axis, positive y pitching the nose down). Torque-free flight keeps it:
+    /// it carries the launch attitude to the first image and propagates the attitude until
+    /// vision measures the rate.
+    pub launch_angular_velocity_body_radps: [f64; 3],
+    /// After touchdown the landing cage soaks up the horizontal velocity at this rate, 1/s:
+    /// the body slides `v_h / k · (1 − e^(−k t))` along the touchdown velocity (the hardware's
+    /// linear damping while landing). 0 holds the touchdown point.
+    pub landing_slide_decay_per_s: f64,
 }
 
 impl Default for JumperVoConfig {
@@ -122,6 +131,8 @@ impl Default for JumperVoConfig {
             max_angular_rate_radps: 1.0,
             touchdown_margin_m: 0.5,
             touchdown_max_drop_m: 3.0,
+            launch_angular_velocity_body_radps: [0.0, 0.1, 0.0],
+            landing_slide_decay_per_s: 8.0,
         }
     }
 }
@@ -306,6 +317,22 @@ impl JumperVoConfig {
             0.0,
             1000.0,
             "[0, 1000]",
+        )?;
+        for w in self.launch_angular_velocity_body_radps {
+            check(
+                "launch_angular_velocity_body_radps",
+                w,
+                -10.0,
+                10.0,
+                "[-10, 10] per axis",
+            )?;
+        }
+        check(
+            "landing_slide_decay_per_s",
+            self.landing_slide_decay_per_s,
+            0.0,
+            1000.0,
+            "[0, 1000] (0 holds the touchdown point)",
         )?;
         Ok(())
     }

@@ -19,7 +19,12 @@
 //! the pose is propagated with the ballistic model (fitted launch velocity and gravity, or the
 //! last velocity for the eq. 4 baseline) and a constant angular rate, confidence drops to 0.1,
 //! and the current frame becomes a fresh keyframe so tracking resumes at the next one. After
-//! the predicted touchdown the position is held and the tracker re-initialized.
+//! touchdown the position slides to rest along the touchdown velocity (the landing cage's
+//! damping), the altitude averages the altimeter, and the tracker is re-initialized.
+//!
+//! Time counts from the launch: [`JumperVo::start_hop_at`] takes the launch instant and pose
+//! at rest, so the predicted touchdown is at the launch's rest altitude even when the first
+//! image comes a frame after the launch.
 
 use crate::ballistic::BallisticFit;
 use crate::cloud::{WorldPoint, fill_heights_above_ground, triangulate_cloud};
@@ -90,6 +95,21 @@ pub struct JumperVo {
     /// prior, then every altimeter sample): the held altitude is their mean.
     landed_altitude_sum_m: f64,
     landed_altitude_weight: f64,
+    /// Launch instant of the hop, when known before its first image ([`Self::start_hop_at`]).
+    pending_launch_t_s: Option<f64>,
+    /// Commanded launch velocity, world frame (zero without a commanded speed).
+    commanded_velocity_mps: Vector3<f64>,
+    /// Touchdown, once landed.
+    touchdown: Option<Touchdown>,
+}
+
+/// Where and how fast the jumper came down; the landed position slides from there.
+#[derive(Debug, Clone, Copy)]
+struct Touchdown {
+    tau_s: f64,
+    position_m: Vector3<f64>,
+    /// Horizontal velocity at the impact, world frame.
+    horizontal_velocity_mps: Vector3<f64>,
 }
 
 impl JumperVo {
@@ -172,6 +192,9 @@ impl JumperVo {
             frame_dt_s: 0.1,
             landed_altitude_sum_m: 0.0,
             landed_altitude_weight: 0.0,
+            pending_launch_t_s: None,
+            commanded_velocity_mps: Vector3::zeros(),
+            touchdown: None,
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -189,6 +212,9 @@ impl JumperVo {
             return;
         }
         self.phase = Phase::WaitingFirstFrame;
+        self.pending_launch_t_s = None;
+        self.touchdown = None;
+        self.commanded_velocity_mps = Vector3::zeros();
         self.launch_world_from_body = world_from_body;
         self.last_world_from_body = world_from_body;
         self.fit = BallisticFit::new(
@@ -204,9 +230,23 @@ impl JumperVo {
             self.fit
                 .add_velocity_prior(&v, self.config.launch_velocity_sigma_mps);
             self.velocity_mps = v;
+            self.commanded_velocity_mps = v;
         }
-        self.angular_velocity_radps = Vector3::zeros();
+        let [wx, wy, wz] = self.config.launch_angular_velocity_body_radps;
+        self.angular_velocity_radps = world_from_body.rotation * Vector3::new(wx, wy, wz);
         self.tracks.reset();
+    }
+
+    /// Like [`Self::start_hop`] with the launch instant known: `launch_world_from_body` is the
+    /// pose at rest, set to the launch attitude, at `launch_t_s`, and the first image may come
+    /// later (up to a second): the commanded launch (velocity, spin and gravity) carries the
+    /// pose to it. The fit then counts time from the real launch, so the touchdown is
+    /// predicted at the launch's rest altitude rather than at the first image's.
+    pub fn start_hop_at(&mut self, launch_world_from_body: Isometry3<f64>, launch_t_s: f64) {
+        self.start_hop(launch_world_from_body);
+        if launch_t_s.is_finite() && self.phase == Phase::WaitingFirstFrame {
+            self.pending_launch_t_s = Some(launch_t_s);
+        }
     }
 
     /// The configuration in use.
@@ -295,10 +335,12 @@ impl JumperVo {
             }
             None => {
                 // The impact ends tracking (tumble, dust, ground too close): while descending
-                // near the ground, a vision breakdown is the touchdown.
-                if self
-                    .descent_height_m(tau)
-                    .is_some_and(|h| h <= self.config.touchdown_margin_m)
+                // near the ground, a vision breakdown is the touchdown, unless the fit still
+                // flies above the launch's rest altitude and predicts the touchdown later (the
+                // ground rushing into view breaks vision a frame or two before the impact).
+                if let Some(h) = self.descent_height_m(tau)
+                    && h <= self.config.touchdown_margin_m
+                    && !(h > 0.0 && self.fit.touchdown_tau_s().is_some_and(|td| td > tau))
                 {
                     let td = self.impact_tau_s(tau);
                     return self.land(&input, td, tau);
@@ -332,24 +374,34 @@ impl JumperVo {
     }
 
     fn first_frame(&mut self, input: &FrameInput<'_>) -> VoOutput {
-        self.launch_t_s = input.t_s;
-        self.last_tau_s = 0.0;
+        let launch_t_s = self.pending_launch_t_s.take().unwrap_or(input.t_s);
+        let tau0 = (input.t_s - launch_t_s).clamp(0.0, 1.0);
+        self.launch_t_s = input.t_s - tau0;
+        self.last_tau_s = tau0;
         self.phase = Phase::Flight;
+        // The commanded launch carries the pose from the launch instant to this image.
+        let g = self.config.gravity_mps2;
+        let position = self.launch_world_from_body.translation.vector
+            + self.commanded_velocity_mps * tau0
+            - Vector3::z() * (0.5 * g * tau0 * tau0);
+        let rotation = UnitQuaternion::from_scaled_axis(self.angular_velocity_radps * tau0)
+            * self.launch_world_from_body.rotation;
+        let pose = Isometry3::from_parts(Translation3::from(position), rotation);
+        self.last_world_from_body = pose;
+        let altitude = input.altimeter_m.filter(|z| z.is_finite());
+        if let Some(z) = altitude {
+            self.fit
+                .add_altitude(tau0, z, self.config.altimeter_sigma_m);
+        }
         self.tracks.reset();
         // A wrong-size image only leaves the tracker empty; the next frame retries.
         let _ = self.tracks.track(&input.image);
         let features = self.tracks.set_keyframe().unwrap_or(0);
-        let rotation = self.launch_world_from_body.rotation;
+        let lever_z = self.lever_world(&rotation).z;
         self.keyframe = Keyframe {
-            world_from_cam: self.launch_world_from_body * self.body_from_camera,
-            tau_s: 0.0,
-            camera_altitude_m: input
-                .altimeter_m
-                .filter(|z| z.is_finite())
-                .map(|z| z + self.lever_world(&rotation).z)
-                .or(Some(
-                    self.launch_world_from_body.translation.z + self.lever_world(&rotation).z,
-                )),
+            world_from_cam: pose * self.body_from_camera,
+            tau_s: tau0,
+            camera_altitude_m: altitude.map(|z| z + lever_z).or(Some(position.z + lever_z)),
         };
         let mut out = self.output(input, VoStatus::Initializing);
         out.confidence = 1.0;
@@ -374,8 +426,8 @@ impl JumperVo {
             Unit::new_normalize(self.keyframe.world_from_cam.rotation.inverse() * -Vector3::z());
         let est = self
             .estimator
-            .estimate(&self.x1, &self.x2, Some(&down_cam_kf))
-            .ok()?;
+            .estimate(&self.x1, &self.x2, Some(&down_cam_kf));
+        let est = est.ok()?;
         let inliers = self.estimator.inliers();
         if inliers.len() < self.config.min_tracked_features
             || (inliers.len() as f64) < self.config.min_inlier_ratio * tracked as f64
@@ -390,8 +442,8 @@ impl JumperVo {
             let b2 = self.x2[i].push(1.0).normalize();
             self.parallax.push(b1.angle(&b2));
         }
-        self.parallax.sort_by(f64::total_cmp);
-        let median_parallax_rad = self.parallax[self.parallax.len() / 2];
+        let mid = self.parallax.len() / 2;
+        let median_parallax_rad = *self.parallax.select_nth_unstable_by(mid, f64::total_cmp).1;
         self.keep.clear();
         self.keep.resize(self.x1.len(), false);
         for &i in inliers {
@@ -618,6 +670,29 @@ impl JumperVo {
                 .unwrap_or(self.last_world_from_body.translation.vector),
             ScaleMethod::PaperEq4 => self.propagated_position(touchdown_tau.max(self.last_tau_s)),
         };
+        let horizontal_velocity_mps = match self.config.scale_method {
+            ScaleMethod::Ballistic => self
+                .fit
+                .solve()
+                .map(|v0| self.fit.velocity(&v0, touchdown_tau))
+                .unwrap_or(self.velocity_mps),
+            ScaleMethod::PaperEq4 => self.velocity_mps,
+        };
+        let mut horizontal_velocity_mps =
+            Vector3::new(horizontal_velocity_mps.x, horizontal_velocity_mps.y, 0.0);
+        let max = self.config.max_speed_mps;
+        if !horizontal_velocity_mps.iter().all(|v| v.is_finite()) {
+            horizontal_velocity_mps = Vector3::zeros();
+        } else if horizontal_velocity_mps.norm() > max {
+            horizontal_velocity_mps *= max / horizontal_velocity_mps.norm();
+        }
+        let touchdown = Touchdown {
+            tau_s: touchdown_tau,
+            position_m: position,
+            horizontal_velocity_mps,
+        };
+        self.touchdown = Some(touchdown);
+        let position = self.slid_position_m(&touchdown, tau);
         let pose = Isometry3::from_parts(
             Translation3::from(position),
             self.last_world_from_body.rotation,
@@ -643,9 +718,26 @@ impl JumperVo {
         out
     }
 
-    /// After touchdown: position held, rotation from vision when it works.
+    /// Touchdown position plus the slide since (the landing cage's damping of the horizontal
+    /// touchdown velocity, [`JumperVoConfig::landing_slide_decay_per_s`]).
+    fn slid_position_m(&self, touchdown: &Touchdown, tau: f64) -> Vector3<f64> {
+        let k = self.config.landing_slide_decay_per_s;
+        let dt = (tau - touchdown.tau_s).max(0.0);
+        if k <= 0.0 || !dt.is_finite() {
+            return touchdown.position_m;
+        }
+        touchdown.position_m + touchdown.horizontal_velocity_mps * ((1.0 - (-k * dt).exp()) / k)
+    }
+
+    /// After touchdown: the position slides to rest (then is held), the altitude averages the
+    /// altimeter, the rotation comes from vision when it works.
     fn landed_frame(&mut self, input: &FrameInput<'_>, tau: f64, tracked: usize) -> VoOutput {
         let mut out = self.output(input, VoStatus::Landed);
+        if let Some(touchdown) = self.touchdown {
+            let p = self.slid_position_m(&touchdown, tau);
+            out.world_from_body.translation.x = p.x;
+            out.world_from_body.translation.y = p.y;
+        }
         // On the ground the body altitude is constant: average the altimeter into it (the
         // fit's impact altitude is biased by any error of the fitted launch velocity).
         if let Some(z) = input.altimeter_m.filter(|z| z.is_finite()) {

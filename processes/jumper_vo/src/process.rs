@@ -63,11 +63,9 @@ pub struct JumperVoProcess {
 }
 
 impl JumperVoProcess {
-    /// Starts the pipeline (or a new hop) from a launch, at the time of the first image after it.
+    /// Starts the pipeline (or a new hop) from a launch; the pipeline carries the commanded
+    /// launch from the launch instant to the first image after it.
     fn start_hop(&mut self, launch: &HopLaunch, header: &ImageHeader) {
-        let gravity_mps2 = self.config.gravity_mps2;
-        let dt_s = (header.stamp.sim_time_ns as f64 - launch.launch_time_ns as f64) * 1e-9;
-        let dt_s = dt_s.clamp(0.0, 1.0);
         let attitude = launch.world_from_body.to_isometry().rotation;
         let launch_position = match (&self.vo, launch.position_known) {
             (_, 1) => Vector3::from(launch.world_from_body.position_m),
@@ -76,15 +74,10 @@ impl JumperVoProcess {
             (None, _) => return, // no known position: wait for one
         };
         let velocity = Vector3::from(launch.velocity_mps);
-        // The first image comes dt after the launch: propagate the commanded ballistic launch.
-        let position =
-            launch_position + velocity * dt_s - Vector3::z() * (0.5 * gravity_mps2 * dt_s * dt_s);
-        let velocity_at_image = velocity - Vector3::z() * gravity_mps2 * dt_s;
         let mut config = self.config.clone();
-        config.launch_speed_mps = velocity_at_image.norm();
-        config.launch_elevation_rad =
-            (velocity_at_image.z / velocity_at_image.norm().max(1e-9)).asin();
-        let initial = Isometry3::from_parts(Translation3::from(position), attitude);
+        config.launch_speed_mps = velocity.norm();
+        config.launch_elevation_rad = (velocity.z / velocity.norm().max(1e-9)).asin();
+        let launch_pose = Isometry3::from_parts(Translation3::from(launch_position), attitude);
         let intrinsics = &header.intrinsics;
         let Ok(camera) = PinholeCamera::new(
             header.width_px,
@@ -97,7 +90,10 @@ impl JumperVoProcess {
             return;
         };
         let mount = header.body_from_camera.to_isometry();
-        if let Ok(vo) = JumperVo::with_mount(config, camera, mount, initial) {
+        if let Ok(mut vo) = JumperVo::with_mount(config, camera, mount, launch_pose) {
+            // The first image comes up to a second after the launch (later is a stale launch:
+            // the pipeline clamps it).
+            vo.start_hop_at(launch_pose, launch.launch_time_ns as f64 * 1e-9);
             self.vo = Some(vo);
             self.last_hop_index = launch.hop_index;
         }

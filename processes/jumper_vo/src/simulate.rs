@@ -11,6 +11,7 @@
 //! assert_eq!(hop.images.len(), 47);
 //! ```
 
+use crate::config::JumperVoConfig;
 use crate::frames::body_from_camera;
 use crate::rng::NoiseRng;
 use crate::trajectory::HopTrajectory;
@@ -118,6 +119,19 @@ pub struct SimulatedHop {
     pub truth_world_from_body: Vec<Isometry3<f64>>,
     /// Noisy altimeter per frame, metres.
     pub altimeter_m: Vec<f64>,
+}
+
+impl SimulatedHop {
+    /// `config` with the robot model of this simulation: its launch spin (the analytic hop
+    /// pitches about body y at `pitch_rate_radps`, nose-up positive) and no landing slide
+    /// (the analytic hop stops dead at touchdown). The VO's settings are kept.
+    pub fn robot_config(&self, config: &JumperVoConfig) -> JumperVoConfig {
+        JumperVoConfig {
+            launch_angular_velocity_body_radps: [0.0, -self.hop.pitch_rate_radps, 0.0],
+            landing_slide_decay_per_s: 0.0,
+            ..config.clone()
+        }
+    }
 }
 
 /// Renders the hop of `cfg`.

@@ -170,3 +170,89 @@ fn hostile_input_never_panics() {
         assert!((0.0..=1.0).contains(&out.confidence));
     }
 }
+
+/// Feeds `sim`'s frames from `first` on (images, times, altimeter) into `vo`.
+fn feed(
+    vo: &mut JumperVo,
+    sim: &SimulatedHop,
+    first: usize,
+) -> Vec<hopnav_jumper_vo::output::VoOutput> {
+    (first..sim.images.len())
+        .map(|k| {
+            vo.process_frame(FrameInput {
+                frame_index: k as u64,
+                t_s: sim.t_s[k],
+                image: ImageView::packed(&sim.images[k], sim.width_px, sim.height_px).unwrap(),
+                altimeter_m: Some(sim.altimeter_m[k]),
+            })
+        })
+        .collect()
+}
+
+/// A launch announced before its first image (the live process: the camera's first frame comes
+/// a frame after the launch) is carried to that image with the commanded velocity and spin.
+#[test]
+fn launch_before_the_first_image_is_propagated_to_it() {
+    let sim = small_sim(8, Vec::new());
+    let config = sim.robot_config(&JumperVoConfig::default());
+    let launch = sim.truth_world_from_body[0];
+    let mut vo = JumperVo::new(config, sim.camera, launch).unwrap();
+    vo.start_hop_at(launch, sim.t_s[0]);
+    let outputs = feed(&mut vo, &sim, 2);
+    assert_eq!(outputs[0].status, VoStatus::Initializing);
+    let first = outputs[0].world_from_body;
+    let truth = sim.truth_world_from_body[2];
+    let position_error = (first.translation.vector - truth.translation.vector).norm();
+    assert!(position_error < 1e-6, "position off by {position_error} m");
+    let rotation_error = first.rotation.angle_to(&truth.rotation);
+    assert!(
+        rotation_error < 1e-6,
+        "attitude off by {rotation_error} rad"
+    );
+    for o in &outputs {
+        let err = (o.world_from_body.translation.vector
+            - sim.truth_world_from_body[o.frame_index as usize]
+                .translation
+                .vector)
+            .norm();
+        assert!(err < 0.5, "frame {} off by {err} m", o.frame_index);
+    }
+}
+
+/// After touchdown the landing cage's damping slides the body along its touchdown velocity:
+/// `v_h / k` in all, then it rests.
+#[test]
+fn landed_body_slides_along_the_touchdown_velocity_then_rests() {
+    let sim = small_sim(60, (45..60).collect());
+    let config = JumperVoConfig {
+        landing_slide_decay_per_s: 8.0,
+        ..sim.robot_config(&JumperVoConfig::default())
+    };
+    let mut vo = JumperVo::new(config, sim.camera, sim.truth_world_from_body[0]).unwrap();
+    let outputs = feed(&mut vo, &sim, 0);
+    let landed: Vec<_> = outputs
+        .iter()
+        .filter(|o| o.status == VoStatus::Landed)
+        .map(|o| o.world_from_body.translation.vector)
+        .collect();
+    assert!(landed.len() >= 10, "{} landed frames", landed.len());
+    let heading = sim.hop.launch_velocity_mps().xy().normalize();
+    let along: Vec<f64> = landed.iter().map(|p| p.xy().dot(&heading)).collect();
+    assert!(along.windows(2).all(|w| w[1] >= w[0] - 1e-9), "{along:?}");
+    let slide = along[along.len() - 1] - along[0];
+    let expected = sim.hop.launch_velocity_mps().xy().norm() / 8.0;
+    assert!(slide > 0.3 * expected && slide < expected, "slid {slide} m");
+    // At rest: the last frames hold the position.
+    assert!((along[along.len() - 1] - along[along.len() - 3]).abs() < 1e-3);
+    let zero = JumperVoConfig {
+        landing_slide_decay_per_s: 0.0,
+        ..sim.robot_config(&JumperVoConfig::default())
+    };
+    let mut vo = JumperVo::new(zero, sim.camera, sim.truth_world_from_body[0]).unwrap();
+    let held: Vec<_> = feed(&mut vo, &sim, 0)
+        .into_iter()
+        .filter(|o| o.status == VoStatus::Landed)
+        .map(|o| o.world_from_body.translation.vector.xy())
+        .collect();
+    assert!(held.iter().all(|p| (p - held[0]).norm() < 1e-9));
+}

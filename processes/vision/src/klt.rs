@@ -37,6 +37,7 @@
 //! ```
 
 use crate::pyramid::{PaddedPlane, Pyramid};
+use crate::simd::{F4, LANES};
 use nalgebra::{Point2, Vector2};
 
 /// Tracker settings.
@@ -158,11 +159,19 @@ pub enum KltError {
 pub struct KltTracker {
     config: KltConfig,
     capacity: usize,
+    /// Row stride of the template, gradient and window buffers: the window width `2r+1`
+    /// rounded up to [`LANES`], the extra columns zero (they add nothing to the sums), so the
+    /// inner loops run on whole SIMD lanes.
+    row_stride: usize,
     template: Vec<f32>,
     template_gx: Vec<f32>,
     template_gy: Vec<f32>,
     window: Vec<f32>,
+    /// The `(n+2)²` intensity window the template and its gradients come from, in rows of
+    /// `row_stride + LANES` (room for the lanes of the last column block's right neighbour).
     padded_template: Vec<f32>,
+    /// 1 for the `2r+1` window columns of a `row_stride` row, 0 for the padding.
+    lane_mask: Vec<f32>,
     /// Processing order (raster order of the start points).
     order: Vec<u32>,
     /// Forward initial guesses (needed to mirror the backward guess).
@@ -214,14 +223,17 @@ impl KltTracker {
             return bad("max_mean_abs_residual", r.to_string(), "> 0");
         }
         let n = 2 * config.window_radius_px + 1;
+        let m = n.next_multiple_of(LANES);
         Ok(Self {
             config,
             capacity: max_points,
-            template: vec![0.0; n * n],
-            template_gx: vec![0.0; n * n],
-            template_gy: vec![0.0; n * n],
-            window: vec![0.0; n * n],
-            padded_template: vec![0.0; (n + 2) * (n + 2)],
+            row_stride: m,
+            template: vec![0.0; n * m],
+            template_gx: vec![0.0; n * m],
+            template_gy: vec![0.0; n * m],
+            window: vec![0.0; n * m],
+            padded_template: vec![0.0; (n + 2) * (m + LANES)],
+            lane_mask: (0..m).map(|c| if c < n { 1.0 } else { 0.0 }).collect(),
             order: Vec::with_capacity(max_points),
             guesses: Vec::with_capacity(max_points),
             fb_errors_px: Vec::with_capacity(max_points),
@@ -421,7 +433,8 @@ impl KltTracker {
             return (result, TrackStatus::OutOfBounds);
         }
         if check_residual && let Some(limit) = self.config.max_mean_abs_residual {
-            sample_window(&base.image, result, r, &mut self.window);
+            // The padding columns are zero in both buffers.
+            sample_window_strided(&base.image, result, r, self.row_stride, &mut self.window);
             let sad: f32 = self
                 .template
                 .iter()
@@ -459,15 +472,22 @@ impl KltTracker {
         // One (n+2)² intensity window; the template and its central-difference gradients come
         // from it (cheaper than sampling three planes; the LK fixed point does not depend on the
         // gradient approximation, only the convergence rate does).
-        sample_window(&lf.image, p, r + 1, &mut self.padded_template);
-        template_from_padded(
+        let padded_stride = self.row_stride + LANES;
+        sample_window_lanes(
+            &lf.image,
+            p,
+            r + 1,
+            padded_stride,
+            &mut self.padded_template,
+        );
+        let (gxx, gxy, gyy) = template_from_padded(
             &self.padded_template,
-            2 * r + 1,
+            padded_stride,
+            &self.lane_mask,
             &mut self.template,
             &mut self.template_gx,
             &mut self.template_gy,
         );
-        let (gxx, gxy, gyy) = structure_tensor(&self.template_gx, &self.template_gy);
         let det = gxx * gyy - gxy * gxy;
         let min_eig =
             0.5 * (gxx + gyy - ((gxx - gyy) * (gxx - gyy) + 4.0 * gxy * gxy).sqrt()) / n_px;
@@ -490,6 +510,7 @@ impl KltTracker {
                 &lt.image,
                 q,
                 r,
+                self.row_stride,
                 &self.template,
                 &self.template_gx,
                 &self.template_gy,
@@ -535,7 +556,9 @@ fn fast_floor(v: f32) -> f32 {
     ((v + FLOOR_OFFSET) as i32) as f32 - FLOOR_OFFSET
 }
 
-/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]).
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]):
+/// the reference of [`sample_window_strided`].
+#[cfg(test)]
 fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32]) {
     let n = 2 * r + 1;
     let fx = fast_floor(p.x);
@@ -562,13 +585,99 @@ fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32])
     }
 }
 
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]),
+/// into rows of `stride ≥ 2r+1` elements; the columns past `2r+1`
+/// are set to zero.
+fn sample_window_strided(
+    plane: &PaddedPlane,
+    p: Point2<f32>,
+    r: usize,
+    stride: usize,
+    out: &mut [f32],
+) {
+    let n = 2 * r + 1;
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
+    let (a, b) = (p.x - fx, p.y - fy);
+    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
+    let x0 = fx as isize - r as isize;
+    let y0 = fy as isize - r as isize;
+    let plane_stride = plane.stride();
+    let data = plane.data();
+    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
+        let i0 = plane.index(x0, y0 + k as isize);
+        let row0 = &data[i0..i0 + n + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + n + 1];
+        let (o_row, o_pad) = o_row.split_at_mut(n);
+        for ((((o, &p00), &p01), &p10), &p11) in o_row
+            .iter_mut()
+            .zip(&row0[..n])
+            .zip(&row0[1..])
+            .zip(&row1[..n])
+            .zip(&row1[1..])
+        {
+            *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
+        }
+        o_pad.fill(0.0);
+    }
+}
+
+/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`])
+/// into rows of `stride` elements, computed in whole lanes: row `k` gets `2r+1` rounded up to
+/// [`LANES`] samples (`stride` must be at least that); those past column `2r+1` are samples of
+/// the pixels further right (finite, to be masked by the caller), and any further columns are
+/// left as they were.
+fn sample_window_lanes(
+    plane: &PaddedPlane,
+    p: Point2<f32>,
+    r: usize,
+    stride: usize,
+    out: &mut [f32],
+) {
+    let n = 2 * r + 1;
+    let cols = n.next_multiple_of(LANES);
+    let fx = fast_floor(p.x);
+    let fy = fast_floor(p.y);
+    let (a, b) = (p.x - fx, p.y - fy);
+    let (w00, w01, w10, w11) = (
+        F4::splat((1.0 - a) * (1.0 - b)),
+        F4::splat(a * (1.0 - b)),
+        F4::splat((1.0 - a) * b),
+        F4::splat(a * b),
+    );
+    let x0 = fx as isize - r as isize;
+    let y0 = fy as isize - r as isize;
+    let plane_stride = plane.stride();
+    let data = plane.data();
+    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
+        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and a row below the
+        // window's last, so the `cols + 1 ≤ n + LANES` elements read from the window's left
+        // edge stay inside `data` (at worst they run into the next row's left border).
+        let i0 = plane.index(x0, y0 + k as isize);
+        let row0 = &data[i0..i0 + cols + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + cols + 1];
+        for c in (0..cols).step_by(LANES) {
+            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
+                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
+            j.store(o_row, c);
+        }
+    }
+}
+
 /// `(Σ (I − J) gx, Σ (I − J) gy)` with `J` the bilinear `(2r+1)²` window of `plane` at `p`
 /// (caller checked [`window_fits`]): [`sample_window`] and [`mismatch`] in one pass, without
 /// writing the window.
+///
+/// `template`, `gx` and `gy` have rows of `stride` elements (a multiple of [`LANES`], at most
+/// `2r+1 + LANES − 1`), zero past column `2r+1`. Whole lanes are computed with one partial sum
+/// per lane, which the compiler keeps in SIMD registers; the padding columns read up to
+/// `LANES − 1` pixels past the window's right edge (still inside the padded plane: see below),
+/// and their zero gradients cancel them.
 fn sampled_mismatch(
     plane: &PaddedPlane,
     p: Point2<f32>,
     r: usize,
+    stride: usize,
     template: &[f32],
     gx: &[f32],
     gy: &[f32],
@@ -580,77 +689,78 @@ fn sampled_mismatch(
     let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
     let x0 = fx as isize - r as isize;
     let y0 = fy as isize - r as isize;
-    let stride = plane.stride();
+    let plane_stride = plane.stride();
     let data = plane.data();
-    let (mut sx, mut sy) = (0.0f32, 0.0f32);
+    let (w00, w01, w10, w11) = (
+        F4::splat(w00),
+        F4::splat(w01),
+        F4::splat(w10),
+        F4::splat(w11),
+    );
+    let (mut sx, mut sy) = (F4::zero(), F4::zero());
     for (k, ((t_row, x_row), y_row)) in template
-        .chunks_exact(n)
-        .zip(gx.chunks_exact(n))
-        .zip(gy.chunks_exact(n))
+        .chunks_exact(stride)
+        .zip(gx.chunks_exact(stride))
+        .zip(gy.chunks_exact(stride))
+        .take(n)
         .enumerate()
     {
+        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and two more rows
+        // below the window, so reading `stride + 1 ≤ n + LANES` elements from the window's
+        // left edge stays inside `data` (at worst it runs into the next row's left border,
+        // whose values the zero padding of the gradients cancels).
         let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + n + 1];
-        let row1 = &data[i0 + stride..i0 + stride + n + 1];
-        let (mut rx, mut ry) = (0.0f32, 0.0f32);
-        for c in 0..n {
-            let j = w00 * row0[c] + w01 * row0[c + 1] + w10 * row1[c] + w11 * row1[c + 1];
-            let diff = t_row[c] - j;
-            rx += diff * x_row[c];
-            ry += diff * y_row[c];
+        let row0 = &data[i0..i0 + stride + 1];
+        let row1 = &data[i0 + plane_stride..i0 + plane_stride + stride + 1];
+        for c in (0..stride).step_by(LANES) {
+            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
+                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
+            let diff = F4::load(t_row, c) - j;
+            sx = sx + diff * F4::load(x_row, c);
+            sy = sy + diff * F4::load(y_row, c);
         }
-        sx += rx;
-        sy += ry;
     }
-    (sx, sy)
+    (sx.sum(), sy.sum())
 }
 
-/// Splits a `(n+2)²` window into the inner `n²` template and its central-difference gradients.
+/// Splits a `(n+2)²` window (rows of `padded_stride = stride + LANES` elements) into the inner
+/// `n²` template and its central-difference gradients, in rows of `stride = mask.len()`
+/// elements that are zero where `mask` is 0 (past column `n`); returns the structure tensor
+/// `(Σ gx², Σ gx gy, Σ gy²)`.
 fn template_from_padded(
     padded: &[f32],
-    n: usize,
+    padded_stride: usize,
+    mask: &[f32],
     template: &mut [f32],
     gx: &mut [f32],
     gy: &mut [f32],
-) {
-    let m = n + 2;
-    for k in 0..n {
-        let up = &padded[k * m..k * m + m];
-        let mid = &padded[(k + 1) * m..(k + 1) * m + m];
-        let down = &padded[(k + 2) * m..(k + 2) * m + m];
-        let t = &mut template[k * n..k * n + n];
-        let x = &mut gx[k * n..k * n + n];
-        let y = &mut gy[k * n..k * n + n];
-        for c in 0..n {
-            t[c] = mid[c + 1];
-            x[c] = 0.5 * (mid[c + 2] - mid[c]);
-            y[c] = 0.5 * (down[c + 1] - up[c + 1]);
+) -> (f32, f32, f32) {
+    let stride = mask.len();
+    let half = F4::splat(0.5);
+    let (mut xx, mut xy, mut yy) = (F4::zero(), F4::zero(), F4::zero());
+    for (k, ((t, x), y)) in template
+        .chunks_exact_mut(stride)
+        .zip(gx.chunks_exact_mut(stride))
+        .zip(gy.chunks_exact_mut(stride))
+        .enumerate()
+    {
+        let up = &padded[k * padded_stride..(k + 1) * padded_stride];
+        let mid = &padded[(k + 1) * padded_stride..(k + 2) * padded_stride];
+        let down = &padded[(k + 2) * padded_stride..(k + 3) * padded_stride];
+        for c in (0..stride).step_by(LANES) {
+            let m = F4::load(mask, c);
+            let tv = m * F4::load(mid, c + 1);
+            let xv = m * (half * (F4::load(mid, c + 2) - F4::load(mid, c)));
+            let yv = m * (half * (F4::load(down, c + 1) - F4::load(up, c + 1)));
+            tv.store(t, c);
+            xv.store(x, c);
+            yv.store(y, c);
+            xx = xx + xv * xv;
+            xy = xy + xv * yv;
+            yy = yy + yv * yv;
         }
     }
-}
-
-fn structure_tensor(gx: &[f32], gy: &[f32]) -> (f32, f32, f32) {
-    let (mut xx, mut xy, mut yy) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
-    let (cx, cy) = (gx.chunks_exact(8), gy.chunks_exact(8));
-    let (rx, ry) = (cx.remainder(), cy.remainder());
-    for (a, b) in cx.zip(cy) {
-        for k in 0..8 {
-            xx[k] += a[k] * a[k];
-            xy[k] += a[k] * b[k];
-            yy[k] += b[k] * b[k];
-        }
-    }
-    let mut s = (
-        xx.iter().sum::<f32>(),
-        xy.iter().sum::<f32>(),
-        yy.iter().sum::<f32>(),
-    );
-    for (a, b) in rx.iter().zip(ry) {
-        s.0 += a * a;
-        s.1 += a * b;
-        s.2 += b * b;
-    }
-    s
+    (xx.sum(), xy.sum(), yy.sum())
 }
 
 /// `(Σ (I − J) gx, Σ (I − J) gy)` of a sampled window (the reference of [`sampled_mismatch`]).
@@ -753,26 +863,112 @@ mod tests {
         let tex = BlobTexture::random(W, H, 350, 21);
         let (pyr, _) = pyramid_of(&tex, &AffineWarp::identity());
         let plane = &pyr.level(0).unwrap().image;
-        let r = 5;
-        let n = 2 * r + 1;
-        let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
-        let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
-        let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
-        for p in [
-            Point2::new(40.3f32, 50.7),
-            Point2::new(-3.5, 7.25),
-            Point2::new(9.0, 9.0),
-        ] {
-            let mut window = vec![0.0; n * n];
-            sample_window(plane, p, r, &mut window);
-            let (ax, ay) = mismatch(&template, &window, &gx, &gy);
-            let (bx, by) = sampled_mismatch(plane, p, r, &template, &gx, &gy);
-            assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
-            assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
+        // Every remainder of 2r+1 modulo LANES, including windows that end at the last column
+        // `window_fits` allows.
+        for r in [2usize, 3, 4, 5, 6] {
+            let n = 2 * r + 1;
+            let m = n.next_multiple_of(LANES);
+            let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
+            let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
+            let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
+            let strided = |v: &[f32]| {
+                let mut out = vec![0.0; n * m];
+                for k in 0..n {
+                    out[k * m..k * m + n].copy_from_slice(&v[k * n..k * n + n]);
+                }
+                out
+            };
+            let (ts, xs, ys) = (strided(&template), strided(&gx), strided(&gy));
+            let edge = W as f32 + plane.pad() as f32 - r as f32 - 3.01;
+            for p in [
+                Point2::new(40.3f32, 50.7),
+                Point2::new(-3.5, 7.25),
+                Point2::new(9.0, 9.0),
+                Point2::new(edge, edge),
+            ] {
+                assert!(window_fits(plane, p, r));
+                let mut window = vec![0.0; n * n];
+                sample_window(plane, p, r, &mut window);
+                let (ax, ay) = mismatch(&template, &window, &gx, &gy);
+                let (bx, by) = sampled_mismatch(plane, p, r, m, &ts, &xs, &ys);
+                assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
+                assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
+                let mut window_strided = vec![1.0; n * m];
+                sample_window_strided(plane, p, r, m, &mut window_strided);
+                assert_eq!(window_strided, strided(&window));
+                let mut window_lanes = vec![1.0; n * (m + LANES)];
+                sample_window_lanes(plane, p, r, m + LANES, &mut window_lanes);
+                for k in 0..n {
+                    let row = &window_lanes[k * (m + LANES)..(k + 1) * (m + LANES)];
+                    for (c, v) in row.iter().enumerate() {
+                        if c < n {
+                            assert!((v - window[k * n + c]).abs() <= 1e-4, "{v} {c}");
+                        } else if c >= m {
+                            assert_eq!(*v, 1.0, "column {c} past the lanes was written");
+                        } else {
+                            assert!(v.is_finite());
+                        }
+                    }
+                }
+                // As `refine_level` uses it: the template's (n+2)² window where `window_fits`
+                // (which leaves a one-pixel margin for it) just passes.
+                let n2 = n + 2;
+                let mut padded = vec![0.0; n2 * (m + LANES)];
+                sample_window_lanes(plane, p, r + 1, m + LANES, &mut padded);
+                let mut reference = vec![0.0; n2 * n2];
+                sample_window(plane, p, r + 1, &mut reference);
+                for k in 0..n2 {
+                    for c in 0..n2 {
+                        let (got, want) = (padded[k * (m + LANES) + c], reference[k * n2 + c]);
+                        assert!((got - want).abs() <= 1e-4, "{got} {want}");
+                    }
+                }
+            }
         }
         assert_eq!(fast_floor(-3.5), -4.0);
         assert_eq!(fast_floor(2.0), 2.0);
         assert_eq!(fast_floor(2.99), 2.0);
+    }
+
+    #[test]
+    fn template_and_tensor_match_scalar_central_differences() {
+        for r in [2usize, 3, 4, 5] {
+            let n = 2 * r + 1;
+            let m = n.next_multiple_of(LANES);
+            let ps = m + LANES;
+            let padded: Vec<f32> = (0..(n + 2) * ps)
+                .map(|i| {
+                    if i % ps < n + 2 {
+                        ((i * 37) % 101) as f32
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let mask: Vec<f32> = (0..m).map(|c| if c < n { 1.0 } else { 0.0 }).collect();
+            let (mut t, mut gx, mut gy) = (vec![9.0; n * m], vec![9.0; n * m], vec![9.0; n * m]);
+            let (xx, xy, yy) = template_from_padded(&padded, ps, &mask, &mut t, &mut gx, &mut gy);
+            let at = |row: usize, col: usize| padded[row * ps + col];
+            let (mut exx, mut exy, mut eyy) = (0.0f64, 0.0f64, 0.0f64);
+            for k in 0..n {
+                for c in 0..m {
+                    let i = k * m + c;
+                    if c >= n {
+                        assert_eq!((t[i], gx[i], gy[i]), (0.0, 0.0, 0.0));
+                        continue;
+                    }
+                    let x = 0.5 * (at(k + 1, c + 2) - at(k + 1, c));
+                    let y = 0.5 * (at(k + 2, c + 1) - at(k, c + 1));
+                    assert_eq!((t[i], gx[i], gy[i]), (at(k + 1, c + 1), x, y));
+                    exx += f64::from(x * x);
+                    exy += f64::from(x * y);
+                    eyy += f64::from(y * y);
+                }
+            }
+            for (got, want) in [(xx, exx), (xy, exy), (yy, eyy)] {
+                assert!((f64::from(got) - want).abs() <= 1e-5 * want.abs().max(1.0));
+            }
+        }
     }
 
     #[test]

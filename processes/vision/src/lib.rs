@@ -45,6 +45,7 @@ pub mod model_select;
 pub mod pyramid;
 pub mod ransac;
 pub mod rng;
+pub mod simd;
 pub mod synthetic;
 pub mod triangulate;
 pub mod two_view;

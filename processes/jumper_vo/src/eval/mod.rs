@@ -48,14 +48,15 @@ impl HopRun {
     }
 }
 
-/// Runs the pipeline over every frame of `hop`, starting from the true launch pose.
+/// Runs the pipeline over every frame of `hop`, starting from the true launch pose, with
+/// `config`'s robot model replaced by the simulated robot's ([`SimulatedHop::robot_config`]).
 pub fn run_hop(hop: &SimulatedHop, config: &JumperVoConfig) -> Result<HopRun, VoError> {
     let initial = hop
         .truth_world_from_body
         .first()
         .copied()
         .unwrap_or_else(Isometry3::identity);
-    let mut vo = JumperVo::new(config.clone(), hop.camera, initial)?;
+    let mut vo = JumperVo::new(hop.robot_config(config), hop.camera, initial)?;
     let mut run = HopRun {
         outputs: Vec::with_capacity(hop.images.len()),
         frame_time_us: Vec::with_capacity(hop.images.len()),

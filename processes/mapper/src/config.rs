@@ -39,6 +39,12 @@ pub struct MapperConfig {
     /// Features whose depth is less certain than this (one sigma) are ignored, metres: a
     /// monocular point triangulated at low parallax cannot tell a rock from the ground.
     pub max_depth_sigma_m: f64,
+    /// A jumper feature counts as high only above `traversable_height_m` plus this many of
+    /// its height sigmas (depth sigma times the vertical part of its viewing ray): monocular
+    /// points seen steeply from ~10 m also carry pose and scale errors.
+    pub jumper_height_sigma_factor: f64,
+    /// The same for the rover's stereo features (their heights were measured to ≈ 4 cm).
+    pub rover_height_sigma_factor: f64,
     /// High features a cell needs to become an obstacle (rejects single outliers).
     pub min_obstacle_support: u32,
     /// Once a cell has `fraction_min_features` judged features, at least this fraction of them
@@ -81,6 +87,8 @@ impl Default for MapperConfig {
             traversable_height_m: 0.15,
             max_feature_height_m: 5.0,
             max_depth_sigma_m: 0.25,
+            jumper_height_sigma_factor: 2.0,
+            rover_height_sigma_factor: 0.0,
             min_obstacle_support: 3,
             obstacle_min_fraction: 0.1,
             fraction_min_features: 20,
@@ -141,6 +149,18 @@ impl MapperConfig {
             1000.0,
         )?;
         check_f64("max_depth_sigma_m", self.max_depth_sigma_m, 0.001, 100.0)?;
+        check_f64(
+            "jumper_height_sigma_factor",
+            self.jumper_height_sigma_factor,
+            0.0,
+            10.0,
+        )?;
+        check_f64(
+            "rover_height_sigma_factor",
+            self.rover_height_sigma_factor,
+            0.0,
+            10.0,
+        )?;
         check_u64(
             "min_obstacle_support",
             u64::from(self.min_obstacle_support),

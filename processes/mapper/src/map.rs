@@ -88,6 +88,8 @@ struct Thresholds {
     traversable_height_m: f32,
     max_feature_height_m: f32,
     max_depth_sigma_m: f32,
+    jumper_height_sigma_factor: f32,
+    rover_height_sigma_factor: f32,
     min_obstacle_support: u32,
     obstacle_min_fraction: f64,
     fraction_min_features: u32,
@@ -138,6 +140,8 @@ impl FeatureMap {
                 traversable_height_m: config.traversable_height_m as f32,
                 max_feature_height_m: config.max_feature_height_m as f32,
                 max_depth_sigma_m: config.max_depth_sigma_m as f32,
+                jumper_height_sigma_factor: config.jumper_height_sigma_factor as f32,
+                rover_height_sigma_factor: config.rover_height_sigma_factor as f32,
                 min_obstacle_support: config.min_obstacle_support,
                 obstacle_min_fraction: config.obstacle_min_fraction,
                 fraction_min_features: config.fraction_min_features,
@@ -171,18 +175,33 @@ impl FeatureMap {
         self.counters
     }
 
-    /// Adds the features of one cloud observed by `robot`; returns how many were accepted.
-    /// Bad points (non-finite, implausible height) and points outside the grid are counted
-    /// and dropped.
+    /// Adds the features of one cloud observed by `robot` from an unknown viewpoint (each
+    /// point's whole depth sigma counts as height uncertainty); returns how many were
+    /// accepted. Bad points (non-finite, implausible height) and points outside the grid are
+    /// counted and dropped.
     pub fn insert_cloud(&mut self, robot: Robot, points: &[FeaturePoint]) -> usize {
+        self.insert_cloud_seen_from(robot, None, points)
+    }
+
+    /// [`Self::insert_cloud`] for a cloud seen from `camera_m` (world metres): a point's
+    /// height uncertainty is its depth sigma times the vertical part of its viewing ray, so
+    /// a rover's far, grazing points keep their (small) height error and a jumper's steep
+    /// ones their large one. A measured feature is high only when it stands more than the
+    /// robot's `*_height_sigma_factor` of these sigmas above the traversable height.
+    pub fn insert_cloud_seen_from(
+        &mut self,
+        robot: Robot,
+        camera_m: Option<[f64; 3]>,
+        points: &[FeaturePoint],
+    ) -> usize {
         let before = self.counters.accepted;
         for point in points {
-            self.insert_point(robot, point);
+            self.insert_point(robot, camera_m, point);
         }
         (self.counters.accepted - before) as usize
     }
 
-    fn insert_point(&mut self, robot: Robot, point: &FeaturePoint) {
+    fn insert_point(&mut self, robot: Robot, camera_m: Option<[f64; 3]>, point: &FeaturePoint) {
         if !point.is_valid() {
             self.counters.non_finite += 1;
             return;
@@ -205,22 +224,23 @@ impl FeatureMap {
             return;
         };
         let index = self.geometry.index(cx, cy);
+        let t = self.thresholds;
+        let sigma_factor = match robot {
+            Robot::Jumper => t.jumper_height_sigma_factor,
+            Robot::Rover => t.rover_height_sigma_factor,
+        };
+        let high_above_m =
+            t.traversable_height_m + sigma_factor * vertical_sigma_m(camera_m, point) as f32;
         if height.is_none()
             && let Some(plane) = &self.ground_cache[index]
         {
             let above_m =
                 f64::from(point.position_m[2]) - plane.height_at(f64::from(x), f64::from(y));
-            let t = self.thresholds;
             if above_m <= f64::from(t.max_feature_height_m) {
-                self.stats[index].add_provisional(above_m > f64::from(t.traversable_height_m));
+                self.stats[index].add_provisional(above_m > f64::from(high_above_m));
             }
         }
-        self.stats[index].add(
-            point.position_m,
-            height,
-            robot.code(),
-            self.thresholds.traversable_height_m,
-        );
+        self.stats[index].add(point.position_m, height, robot.code(), high_above_m);
         self.touched.insert(index);
         self.counters.accepted += 1;
     }
@@ -466,6 +486,25 @@ impl FeatureMap {
             support: base.support,
         }
     }
+}
+
+/// One-sigma height uncertainty of `point`: its depth sigma along the viewing ray from
+/// `camera_m`, projected on the vertical (all of it when the viewpoint is unknown).
+fn vertical_sigma_m(camera_m: Option<[f64; 3]>, point: &FeaturePoint) -> f64 {
+    let depth_sigma_m = f64::from(point.depth_sigma_m);
+    let Some(camera_m) = camera_m else {
+        return depth_sigma_m;
+    };
+    let ray_m = [
+        f64::from(point.position_m[0]) - camera_m[0],
+        f64::from(point.position_m[1]) - camera_m[1],
+        f64::from(point.position_m[2]) - camera_m[2],
+    ];
+    let range_m = ray_m.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if range_m.is_nan() || range_m <= 1e-6 || !range_m.is_finite() {
+        return depth_sigma_m;
+    }
+    depth_sigma_m * ray_m[2].abs() / range_m
 }
 
 #[cfg(test)]

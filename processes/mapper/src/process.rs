@@ -99,7 +99,12 @@ impl MapperProcess {
             if robot == Robot::Jumper && !self.accept_jumper_clouds {
                 continue;
             }
-            if self.map.insert_cloud(robot, cloud.elements()) > 0 {
+            let camera_m = cloud.header().world_from_camera.position_m;
+            if self
+                .map
+                .insert_cloud_seen_from(robot, Some(camera_m), cloud.elements())
+                > 0
+            {
                 self.changed_since_snapshot = true;
             }
         }

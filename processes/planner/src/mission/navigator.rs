@@ -83,6 +83,9 @@ struct BumpedCell {
     mapper: CellChange,
 }
 
+/// Extra cost of a goal cell the map calls an obstacle (see `keep_goal_open`), planner units.
+const GOAL_IN_OBSTACLE_EXTRA_COST: u32 = 5000;
+
 /// Bumped cells remembered (a bounded list: a mission bumps a handful).
 const MAX_BUMPED_CELLS: usize = 256;
 
@@ -176,12 +179,24 @@ impl Navigator {
                 continue;
             }
             if self.planner.grid().contains(change.cell) {
-                self.pending.push(change);
+                self.pending.push(self.keep_goal_open(change));
             } else {
                 refused += 1;
             }
         }
         refused
+    }
+
+    /// The goal cell stays traversable, at the highest cost, whatever the map says: a false
+    /// obstacle next to the goal would otherwise make the whole mission unreachable, and the
+    /// goal counts as reached within `goal_tolerance_m` (the bumper still stops the rover at a
+    /// real rock).
+    fn keep_goal_open(&self, change: CellChange) -> CellChange {
+        if change.cell == self.planner.goal() && change.state == CellState::Obstacle {
+            CellChange::new(change.cell, CellState::Free, GOAL_IN_OBSTACLE_EXTRA_COST)
+        } else {
+            change
+        }
     }
 
     /// One planning cycle at `time_s` with the rover at `rover` and, if known, the jumper at
@@ -660,6 +675,18 @@ mod tests {
         let (decision, _) = drive(&mut navigator, &truth, [13.6, 10.25], 40.0, 3000);
         assert_eq!(decision.status, MissionStatus::GoalReached);
         assert_eq!(navigator.counters().bump_marks_forgotten, 1);
+    }
+
+    #[test]
+    fn an_obstacle_reported_on_the_goal_does_not_make_it_unreachable() {
+        let geometry = MapGeometry::new(0.0, 0.0, 0.5, 20, 20).unwrap();
+        let mut navigator =
+            Navigator::new(geometry, [1.0, 5.0], [8.0, 5.0], NavigatorConfig::default()).unwrap();
+        let goal = geometry.cell_of([8.0, 5.0]).unwrap();
+        navigator.queue_changes([CellChange::new(goal, CellState::Obstacle, 0)]);
+        let decision = navigator.step(at([1.0, 5.0]), None, 0.0).unwrap();
+        assert_eq!(decision.status, MissionStatus::Driving);
+        assert_eq!(navigator.grid().state(goal), Some(CellState::Free));
     }
 
     #[test]

@@ -320,6 +320,8 @@ pub struct RockConfig {
     pub clusters: Vec<RockClusterConfig>,
     /// Individual rocks at given positions.
     pub explicit: Vec<ExplicitRockConfig>,
+    /// Arcs of boulders between the scenario's start and goal, placed from the seed.
+    pub boulder_fields: BoulderFieldConfig,
 }
 
 impl Default for RockConfig {
@@ -331,6 +333,7 @@ impl Default for RockConfig {
             height_ratio: 0.5,
             clusters: Vec::new(),
             explicit: Vec::new(),
+            boulder_fields: BoulderFieldConfig::default(),
         }
     }
 }
@@ -355,7 +358,75 @@ impl RockConfig {
         for (i, r) in self.explicit.iter().enumerate() {
             r.validate(&key(prefix, &format!("explicit[{i}]")))?;
         }
-        Ok(())
+        self.boulder_fields.validate(&key(prefix, "boulder_fields"))
+    }
+}
+
+/// Boulder fields: arcs of large rocks between the scenario's start A and goal B, open
+/// toward A, so the rover cannot see whether their back is closed (see
+/// [`boulder_fields`](crate::boulder_fields)). Placed at random from the world seed; they need
+/// `scenario.start_m` and `scenario.goal_m`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BoulderFieldConfig {
+    /// Fields to place (0 = none).
+    pub count: u32,
+    /// Smallest arc radius, metres.
+    pub radius_min_m: f64,
+    /// Largest arc radius, metres.
+    pub radius_max_m: f64,
+    /// Angular width of the opening that faces A, radians.
+    pub opening_rad: f64,
+    /// Smallest boulder diameter, metres.
+    pub diameter_min_m: f64,
+    /// Largest boulder diameter, metres.
+    pub diameter_max_m: f64,
+    /// Boulder height over diameter.
+    pub height_ratio: f64,
+    /// Field centres lie up to this far to either side of the A–B line, metres.
+    pub lateral_spread_m: f64,
+}
+
+impl Default for BoulderFieldConfig {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            radius_min_m: 3.0,
+            radius_max_m: 5.0,
+            opening_rad: 100f64.to_radians(),
+            diameter_min_m: 0.8,
+            diameter_max_m: 1.4,
+            height_ratio: 0.6,
+            lateral_spread_m: 2.0,
+        }
+    }
+}
+
+impl BoulderFieldConfig {
+    /// Checks the values under `prefix`.
+    pub fn validate(&self, prefix: &str) -> Result<(), ConfigError> {
+        check_int(prefix, "count", u64::from(self.count), 0, 20)?;
+        Interval::closed(0.5, 50.0).check(prefix, "radius_min_m", self.radius_min_m)?;
+        Interval::closed(0.5, 50.0).check(prefix, "radius_max_m", self.radius_max_m)?;
+        if self.radius_max_m < self.radius_min_m {
+            return Err(inconsistent(
+                prefix,
+                "radius_max_m",
+                format!("must be >= {} (radius_min_m)", self.radius_min_m),
+            ));
+        }
+        Interval::closed(0.0, 6.0).check(prefix, "opening_rad", self.opening_rad)?;
+        Interval::closed(0.1, 10.0).check(prefix, "diameter_min_m", self.diameter_min_m)?;
+        Interval::closed(0.1, 10.0).check(prefix, "diameter_max_m", self.diameter_max_m)?;
+        if self.diameter_max_m < self.diameter_min_m {
+            return Err(inconsistent(
+                prefix,
+                "diameter_max_m",
+                format!("must be >= {} (diameter_min_m)", self.diameter_min_m),
+            ));
+        }
+        Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", self.height_ratio)?;
+        Interval::closed(0.0, 100.0).check(prefix, "lateral_spread_m", self.lateral_spread_m)
     }
 }
 

@@ -41,6 +41,7 @@
 
 pub mod bake;
 pub mod bench;
+pub mod boulder_fields;
 pub mod camera;
 pub mod config;
 pub mod craters;

@@ -16,6 +16,7 @@
 //! assert!((g.cumulative_area_fraction(0.0) - 0.07).abs() < 1e-12);
 //! ```
 
+use crate::boulder_fields::{field_boulders, place_fields};
 use crate::config::{RockClusterConfig, RockConfig, ScenarioConfig};
 use crate::rng::{Rng, mix64};
 use crate::terrain::Heightfield;
@@ -37,6 +38,8 @@ pub enum RockSource {
     Cluster(u32),
     /// Entry with this index in `rocks.explicit`.
     Explicit(u32),
+    /// Boulder field with this index (see [`crate::boulder_fields`]).
+    BoulderField(u32),
 }
 
 /// One rock resting on the terrain.
@@ -295,6 +298,26 @@ pub fn generate_rocks(
     let mut rocks = sample_golombek_rocks(seed, cfg, scenario, hf);
     for (i, c) in cfg.clusters.iter().enumerate() {
         rocks.extend(sample_cluster(seed, i as u32, c, hf));
+    }
+    if let (Some(start_m), Some(goal_m)) = (scenario.start_m, scenario.goal_m) {
+        let fields = place_fields(seed, &cfg.boulder_fields, start_m, goal_m);
+        let mut rng = Rng::new(seed, SHAPE_STREAM ^ 0xB0);
+        for (index, field) in (0u32..).zip(&fields) {
+            for (n, boulder) in
+                (0u64..).zip(field_boulders(seed, index, &cfg.boulder_fields, field))
+            {
+                let shape_seed = mix64(seed ^ SHAPE_STREAM ^ (u64::from(index) << 32) ^ n ^ 0xB0);
+                rocks.push(make_rock(
+                    hf,
+                    &mut rng,
+                    boulder.center_m,
+                    boulder.diameter_m,
+                    boulder.height_m,
+                    shape_seed,
+                    RockSource::BoulderField(index),
+                ));
+            }
+        }
     }
     let mut rng = Rng::new(seed, SHAPE_STREAM);
     for (i, e) in cfg.explicit.iter().enumerate() {

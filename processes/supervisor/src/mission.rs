@@ -365,6 +365,8 @@ pub fn map_figure(
     let margin_m = 4.0;
     let half_height_m = ((y1 - y0) / 2.0 + margin_m).max((x1 - x0) / 6.0);
     let centre_y = (y0 + y1) / 2.0;
+    // Room on the right for the legend, so it never hides the goal or a track.
+    let legend_m = 0.3 * (x1 - x0 + 2.0 * margin_m);
     MapFigure {
         title: title.to_owned(),
         origin_m,
@@ -375,7 +377,7 @@ pub fn map_figure(
         tracks,
         view_m: (
             x0 - margin_m,
-            x1 + margin_m,
+            x1 + margin_m + legend_m,
             centre_y - half_height_m,
             centre_y + half_height_m,
         ),

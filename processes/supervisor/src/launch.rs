@@ -41,7 +41,11 @@ struct MissionSummary {
     report: crate::mission_report::MissionReport,
     figure: Option<hopnav_metrics::map_plot::MapFigure>,
     rover_track_m: Vec<(f64, f64)>,
+    /// Per robot: name, matched VO estimates and truths.
+    vo_tum: Vec<(&'static str, TumPoses, TumPoses)>,
 }
+
+type TumPoses = Vec<(f64, nalgebra::Isometry3<f64>)>;
 
 /// A launch that ran its frame loop.
 #[derive(Debug, Clone)]
@@ -189,6 +193,14 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
                 report: mission.report(),
                 figure: mission.figure(&title),
                 rover_track_m: mission.rover_track_m().to_vec(),
+                vo_tum: mission
+                    .vo_tracks()
+                    .into_iter()
+                    .map(|(robot, track)| {
+                        let (estimate, truth) = track.tum_poses();
+                        (robot, estimate, truth)
+                    })
+                    .collect(),
             }
         });
         (frame_loop.into_stats(), end, mission)
@@ -228,6 +240,17 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         let path = run_dir.join("rover_track.csv");
         if let Err(error) = std::fs::write(&path, format!("x_m,y_m\n{track}")) {
             eprintln!("warning: cannot write {}: {error}", path.display());
+        }
+        for (robot, estimate, truth) in &mission.vo_tum {
+            if estimate.is_empty() {
+                continue;
+            }
+            for (kind, poses) in [("estimate", estimate), ("truth", truth)] {
+                let path = run_dir.join(format!("vo_{robot}_{kind}.tum"));
+                if let Err(error) = hopnav_metrics::trajectory::tum::write_tum(&path, poses) {
+                    eprintln!("warning: {error}");
+                }
+            }
         }
     }
     let mut end_to_end = frame_loop.end_to_end_ns.clone();

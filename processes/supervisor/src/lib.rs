@@ -19,6 +19,7 @@ pub mod restart;
 pub mod scheduler;
 mod slot;
 mod status_line;
+pub mod vo_accuracy;
 
 pub use error::LaunchError;
 pub use launch::{LaunchOptions, LaunchOutcome, launch};

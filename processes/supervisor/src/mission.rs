@@ -5,7 +5,9 @@ use std::collections::HashMap;
 
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::IpcService;
-use hopnav_ipc::messages::{BodyStates, CellClass, MapHeader, MissionState, PathHeader, Robot};
+use hopnav_ipc::messages::{
+    BodyStates, CellClass, MapHeader, MissionState, PathHeader, PoseEstimate, Robot,
+};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
@@ -13,6 +15,7 @@ use iceoryx2::node::Node;
 
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::mission_report::MissionReport;
+use crate::vo_accuracy::VoTrack;
 
 /// The planner holding "unreachable" this long ends the mission as failed, seconds.
 const UNREACHABLE_GIVE_UP_S: f64 = 5.0;
@@ -51,6 +54,10 @@ pub struct MissionObserver {
     start_m: Option<[f64; 2]>,
     goal_m: Option<[f64; 2]>,
     truth: Subscriber<BodyStates>,
+    jumper_poses: Subscriber<PoseEstimate>,
+    rover_poses: Subscriber<PoseEstimate>,
+    jumper_vo: VoTrack,
+    rover_vo: VoTrack,
     paths: SliceSubscriber<PathHeader>,
     maps: SliceSubscriber<MapHeader>,
     last_path: Option<PathHeader>,
@@ -102,6 +109,10 @@ impl MissionObserver {
             ),
             world,
             truth: Subscriber::open(node, &topics::BODY_STATES).ok()?,
+            jumper_poses: Subscriber::open(node, &topics::JUMPER_POSE).ok()?,
+            rover_poses: Subscriber::open(node, &topics::ROVER_POSE).ok()?,
+            jumper_vo: VoTrack::default(),
+            rover_vo: VoTrack::default(),
             paths: SliceSubscriber::open(node, &topics::PATH).ok()?,
             maps: SliceSubscriber::open(node, &topics::MAP_UPDATES).ok()?,
             last_path: None,
@@ -125,6 +136,16 @@ impl MissionObserver {
     pub fn observe(&mut self) {
         while let Ok(Some(states)) = self.truth.receive() {
             self.on_truth(&states);
+        }
+        while let Ok(Some(pose)) = self.jumper_poses.receive() {
+            let world_from_body = pose.world_from_body.to_isometry();
+            self.jumper_vo
+                .add_estimate(pose.stamp.sim_time_ns, world_from_body);
+        }
+        while let Ok(Some(pose)) = self.rover_poses.receive() {
+            let world_from_body = pose.world_from_body.to_isometry();
+            self.rover_vo
+                .add_estimate(pose.stamp.sim_time_ns, world_from_body);
         }
         while let Ok(Some(sample)) = self.maps.receive() {
             let header = sample.header();
@@ -155,6 +176,11 @@ impl MissionObserver {
 
     fn on_truth(&mut self, states: &BodyStates) {
         self.last_sim_time_s = states.stamp.sim_time_ns as f64 * 1e-9;
+        let time_ns = states.stamp.sim_time_ns;
+        self.jumper_vo
+            .add_truth(time_ns, states.jumper.world_from_body.to_isometry());
+        self.rover_vo
+            .add_truth(time_ns, states.rover.world_from_body.to_isometry());
         let [x_m, y_m, _] = states.rover.world_from_body.position_m;
         if let Some([last_x, last_y]) = self.last_rover_m {
             self.rover_path_m += (x_m - last_x).hypot(y_m - last_y);
@@ -233,7 +259,19 @@ impl MissionObserver {
             obstacle_cells: count(CellClass::Obstacle),
             inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
             map_accuracy: self.map_accuracy(),
+            vo: [
+                self.jumper_vo.accuracy("jumper"),
+                self.rover_vo.accuracy("rover"),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
         }
+    }
+
+    /// Each robot's matched VO estimates and truths, for TUM files.
+    pub fn vo_tracks(&self) -> [(&'static str, &VoTrack); 2] {
+        [("jumper", &self.jumper_vo), ("rover", &self.rover_vo)]
     }
 
     /// The final map's obstacles against the world's rocks; `None` without a map or when the

@@ -39,6 +39,8 @@ pub struct MissionReport {
     pub inflated_cells: usize,
     /// Obstacle cells against the world's rocks (evaluation only).
     pub map_accuracy: Option<crate::map_accuracy::MapAccuracy>,
+    /// Each robot's VO against the truth of the same frames (evaluation only).
+    pub vo: Vec<crate::vo_accuracy::VoAccuracy>,
 }
 
 impl MissionReport {
@@ -78,6 +80,19 @@ impl MissionReport {
                 accuracy.false_by_both,
                 accuracy.blocking_rocks_found,
                 accuracy.blocking_rocks_near_track
+            )?;
+        }
+        for vo in &self.vo {
+            writeln!(
+                out,
+                "{} VO vs truth over {} poses: ATE Sim(3) {:.3} m, SE(3) {:.3} m, final error {:.3} m after {:.1} m travelled ({:.2} %)",
+                vo.robot,
+                vo.poses,
+                vo.ate_sim3_m,
+                vo.ate_se3_m,
+                vo.final_error_m,
+                vo.travelled_m,
+                vo.drift_percent
             )?;
         }
         Ok(())

@@ -37,6 +37,8 @@ pub struct LaunchOptions {
 }
 
 /// What the mission observer found, kept after its ports are gone.
+use crate::vo_accuracy::TumPoses;
+
 struct MissionSummary {
     report: crate::mission_report::MissionReport,
     figure: Option<hopnav_metrics::map_plot::MapFigure>,
@@ -44,8 +46,6 @@ struct MissionSummary {
     /// Per robot: name, matched VO estimates and truths.
     vo_tum: Vec<(&'static str, TumPoses, TumPoses)>,
 }
-
-type TumPoses = Vec<(f64, nalgebra::Isometry3<f64>)>;
 
 /// A launch that ran its frame loop.
 #[derive(Debug, Clone)]

@@ -23,6 +23,9 @@ use serde::{Deserialize, Serialize};
 
 use hopnav_metrics::trajectory::errors::{ate, final_position_error_m, unaligned_rmse_m};
 
+/// Stamped poses for a TUM file: (sim time s, `world_from_body`).
+pub type TumPoses = Vec<(f64, Isometry3<f64>)>;
+
 /// Truth poses kept while waiting for their estimate (a mission of ten minutes at 10 fps).
 const MAX_PENDING_TRUTH: usize = 8192;
 
@@ -76,7 +79,7 @@ impl VoTrack {
     }
 
     /// The matched `(sim time s, pose)` pairs, estimate and truth, for TUM files.
-    pub fn tum_poses(&self) -> (Vec<(f64, Isometry3<f64>)>, Vec<(f64, Isometry3<f64>)>) {
+    pub fn tum_poses(&self) -> (TumPoses, TumPoses) {
         let at = |t_ns: u64| t_ns as f64 * 1e-9;
         (
             self.pairs.iter().map(|(t, e, _)| (at(*t), *e)).collect(),

@@ -68,6 +68,8 @@ const SWEEP_MARGIN_M: f64 = 1.0;
 struct Placement {
     position: DVec3,
     rotation: DQuat,
+    /// Larger of |pitch| and |roll|, radians.
+    tilt_rad: f64,
 }
 
 /// Why a placement failed; `Rock` carries the collider that blocked and the footprint pose.
@@ -143,6 +145,8 @@ pub struct Rover {
     yaw_rad: f64,
     position: DVec3,
     rotation: DQuat,
+    /// Larger of |pitch| and |roll| of the current pose, radians.
+    tilt_rad: f64,
     linvel: DVec3,
     angvel: DVec3,
     accel: DVec3,
@@ -192,7 +196,7 @@ impl Rover {
         let geo = Geometry::new(cfg, terrain);
         let xy = cfg.start_xy_m;
         let placement =
-            place(pw, &geo, cfg, terrain, xy, cfg.start_yaw_rad).map_err(|b| match b {
+            place(pw, &geo, cfg, terrain, xy, cfg.start_yaw_rad, 0.0).map_err(|b| match b {
                 Blocked::Rock(collider, footprint_pose) => StartError::InsideRock {
                     collider,
                     footprint_pose,
@@ -219,6 +223,7 @@ impl Rover {
             yaw_rad: cfg.start_yaw_rad,
             position: placement.position,
             rotation: placement.rotation,
+            tilt_rad: placement.tilt_rad,
             linvel: DVec3::ZERO,
             angvel: DVec3::ZERO,
             accel: DVec3::ZERO,
@@ -295,8 +300,9 @@ impl Rover {
                 self.xy_m[0] + self.v_mps * mid.cos() * dt_s,
                 self.xy_m[1] + self.v_mps * mid.sin() * dt_s,
             ];
-            match place(pw, &self.geo, cfg, terrain, xy, yaw) {
+            match place(pw, &self.geo, cfg, terrain, xy, yaw, self.tilt_rad) {
                 Ok(p) => {
+                    self.tilt_rad = p.tilt_rad;
                     self.xy_m = xy;
                     self.yaw_rad = wrap_angle(yaw);
                     self.position = p.position;
@@ -500,7 +506,10 @@ fn wheel_on_terrain_z(
     z
 }
 
-/// Rests the chassis on its wheels at (xy, yaw), or says why it cannot be there.
+/// Rests the chassis on its wheels at (xy, yaw), or says why it cannot be there. A pose
+/// tilted beyond `max_tilt_rad` is refused unless it is less tilted than `current_tilt_rad`:
+/// a rover that ended up at the limit may always move back toward level ground (otherwise a
+/// turn that brought its roll to exactly the limit would lock it in place for good).
 fn place(
     pw: &PhysicsWorld,
     geo: &Geometry,
@@ -508,6 +517,7 @@ fn place(
     terrain: &Heightfield,
     xy: [f64; 2],
     yaw: f64,
+    current_tilt_rad: f64,
 ) -> Result<Placement, Blocked> {
     let (s, c) = yaw.sin_cos();
     let climbable = pw.query_pipeline_with_filter(
@@ -551,7 +561,8 @@ fn place(
     let right = 0.5 * (wheel_z[1] + wheel_z[3]);
     let pitch = -(front - rear).atan2(cfg.wheelbase_m);
     let roll = (left - right).atan2(cfg.track_m);
-    if pitch.abs() > cfg.max_tilt_rad || roll.abs() > cfg.max_tilt_rad {
+    let tilt_rad = pitch.abs().max(roll.abs());
+    if tilt_rad > cfg.max_tilt_rad && tilt_rad >= current_tilt_rad {
         return Err(Blocked::Slope);
     }
     let rotation = quat_from_yaw_pitch_roll(yaw, pitch, roll);
@@ -574,7 +585,11 @@ fn place(
     {
         return Err(Blocked::Rock(h, footprint_pose));
     }
-    Ok(Placement { position, rotation })
+    Ok(Placement {
+        position,
+        rotation,
+        tilt_rad,
+    })
 }
 
 #[cfg(test)]

@@ -5,7 +5,9 @@
 //! missed (a rock just above the climbable height, or one hidden below the camera's view).
 //! Turning counts as progress: a rover turning on the spot toward a new path is not stuck.
 //! Once stuck, it backs up rear first, because turning on the spot against a rock would sweep
-//! a corner of the chassis into it; the navigator marks the cell ahead as an obstacle.
+//! a corner of the chassis into it; the navigator marks the cell ahead as an obstacle. It
+//! backs up along its own recent track where it has one (those poses were drivable: straight
+//! back from a turn on a slope can tilt it further), else straight behind.
 //!
 //! ```
 //! use hopnav_planner::mission::{Bumper, BumperEvent, NavigatorConfig, RoverPose};
@@ -74,7 +76,13 @@ struct BumperConfig {
 struct BackOff {
     from: RoverPose,
     since_s: f64,
+    waypoint_m: [f64; 2],
 }
+
+/// Positions of the recent track kept for backing off along it.
+const TRAIL_POINTS: usize = 32;
+/// Spacing of the kept track positions, metres.
+const TRAIL_SPACING_M: f64 = 0.2;
 
 /// Stall detection and the back-off manoeuvre.
 #[derive(Debug, Clone, PartialEq)]
@@ -84,6 +92,11 @@ pub struct Bumper {
     anchor: Option<(RoverPose, f64)>,
     backing_off: Option<BackOff>,
     stalls: u32,
+    /// Back-offs in a row that timed out without getting anywhere; each new one tries the
+    /// other way out (along the track, or straight behind).
+    failed_back_offs: u32,
+    /// Recent positions, oldest first, `TRAIL_SPACING_M` apart.
+    trail: std::collections::VecDeque<[f64; 2]>,
 }
 
 impl Bumper {
@@ -101,6 +114,8 @@ impl Bumper {
             anchor: None,
             backing_off: None,
             stalls: 0,
+            failed_back_offs: 0,
+            trail: std::collections::VecDeque::with_capacity(TRAIL_POINTS),
         }
     }
 
@@ -111,12 +126,18 @@ impl Bumper {
 
     /// One frame at `time_s`. `driving`: the rover was told to drive forward (not holding).
     pub fn observe(&mut self, pose: RoverPose, time_s: f64, driving: bool) -> BumperEvent {
+        self.extend_trail(pose.xy_m);
         if let Some(back_off) = self.backing_off {
-            let done = distance_m(back_off.from.xy_m, pose.xy_m) >= self.config.back_off_m
-                || time_s - back_off.since_s >= self.config.back_off_timeout_s;
-            if !done {
+            let escaped = distance_m(back_off.from.xy_m, pose.xy_m) >= self.config.back_off_m;
+            let timed_out = time_s - back_off.since_s >= self.config.back_off_timeout_s;
+            if !escaped && !timed_out {
                 return BumperEvent::BackingOff;
             }
+            self.failed_back_offs = if escaped {
+                0
+            } else {
+                self.failed_back_offs + 1
+            };
             self.backing_off = None;
             self.anchor = Some((pose, time_s));
         }
@@ -143,17 +164,48 @@ impl Bumper {
         self.backing_off = Some(BackOff {
             from: pose,
             since_s: time_s,
+            waypoint_m: self.back_off_target(pose),
         });
         BumperEvent::Stuck {
             obstacle_m: pose.ahead_m(self.config.obstacle_reach_m),
         }
     }
 
-    /// While backing off: the waypoint straight behind where the back-off began (beyond the
-    /// back-off distance, so the rover does not slow to a stop before it gets there).
+    /// While backing off: where to back up to.
     pub fn back_off_waypoint(&self) -> Option<[f64; 2]> {
-        self.backing_off
-            .map(|back_off| back_off.from.ahead_m(-(self.config.back_off_m + 0.5)))
+        self.backing_off.map(|back_off| back_off.waypoint_m)
+    }
+
+    fn extend_trail(&mut self, xy_m: [f64; 2]) {
+        if self
+            .trail
+            .back()
+            .is_some_and(|&last| distance_m(last, xy_m) < TRAIL_SPACING_M)
+        {
+            return;
+        }
+        if self.trail.len() == TRAIL_POINTS {
+            self.trail.pop_front();
+        }
+        self.trail.push_back(xy_m);
+    }
+
+    /// The newest track position a little beyond the back-off distance, else the point
+    /// straight behind (beyond the back-off distance, so the rover does not slow to a stop
+    /// before it gets there).
+    fn back_off_target(&self, pose: RoverPose) -> [f64; 2] {
+        let straight_behind_m = pose.ahead_m(-(self.config.back_off_m + 0.5));
+        if self.failed_back_offs % 2 == 1 {
+            // The track did not lead out last time (a corner swept into a rock): straight.
+            return straight_behind_m;
+        }
+        let reach_m = self.config.back_off_m + 0.3;
+        self.trail
+            .iter()
+            .rev()
+            .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
+            .copied()
+            .unwrap_or(straight_behind_m)
     }
 }
 
@@ -240,6 +292,34 @@ mod tests {
         assert_eq!(
             bumper.observe(pose(0.0, 0.0), later_s, true),
             BumperEvent::Clear
+        );
+    }
+
+    #[test]
+    fn it_backs_off_along_its_own_track_when_it_has_one() {
+        let mut bumper = Bumper::new(&NavigatorConfig::default());
+        // Drove up along +y, then turned toward +x and got stuck.
+        for frame in 0..30 {
+            let pose = RoverPose {
+                xy_m: [0.0, frame as f64 * 0.05],
+                yaw_rad: std::f64::consts::FRAC_PI_2,
+            };
+            assert_eq!(
+                bumper.observe(pose, frame as f64 * 0.1, true),
+                BumperEvent::Clear
+            );
+        }
+        let stuck = RoverPose {
+            xy_m: [0.0, 1.45],
+            yaw_rad: 0.0,
+        };
+        let event = run(&mut bumper, 100, |_| stuck);
+        assert!(matches!(event, BumperEvent::Stuck { .. }));
+        let waypoint = bumper.back_off_waypoint().unwrap();
+        // Back down the track (−y), not straight behind the new heading (−x).
+        assert!(
+            waypoint[0].abs() < 1e-9 && waypoint[1] < 1.45 - 0.6,
+            "{waypoint:?}"
         );
     }
 

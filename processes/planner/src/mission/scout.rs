@@ -35,8 +35,12 @@ pub fn find_region_of_interest(
     })
 }
 
-/// Picks the hop: the point farthest along `path` (at or past `region_index`) within
-/// `hop_range_m` of the jumper and at least `min_hop_m` from it.
+/// Picks a hop that flies over the region (the rear camera maps the ground between launch
+/// and landing). A jumper short of the region along the path hops to the point farthest
+/// along `path` (at or past `region_index`) within `hop_range_m`; a jumper already past it
+/// (it scouted ahead earlier) hops back to the path point nearest the region on the rover's
+/// side that lies [`BACK_HOP_MARGIN_M`] before it. Either way the hop is at least
+/// `min_hop_m` long.
 pub(crate) fn choose_target(
     geometry: &MapGeometry,
     path: &[Cell],
@@ -45,16 +49,41 @@ pub(crate) fn choose_target(
     hop_range_m: f64,
     min_hop_m: f64,
 ) -> Option<ScoutDecision> {
-    let target_m = path
+    let jumper_index = path
         .iter()
-        .skip(region_index)
-        .map(|&cell| geometry.center_of(cell))
-        .rfind(|centre_m| distance_m(*centre_m, jumper_m) <= hop_range_m)?;
-    (distance_m(target_m, jumper_m) >= min_hop_m).then_some(ScoutDecision {
+        .enumerate()
+        .min_by(|(_, a), (_, b)| {
+            let (a_m, b_m) = (geometry.center_of(**a), geometry.center_of(**b));
+            distance_m(a_m, jumper_m).total_cmp(&distance_m(b_m, jumper_m))
+        })
+        .map(|(index, _)| index)?;
+    let reachable = |centre_m: &[f64; 2]| {
+        let hop_m = distance_m(*centre_m, jumper_m);
+        (min_hop_m..=hop_range_m).contains(&hop_m)
+    };
+    let target_m = if jumper_index <= region_index {
+        path.iter()
+            .skip(region_index)
+            .map(|&cell| geometry.center_of(cell))
+            .rfind(|centre_m| distance_m(*centre_m, jumper_m) <= hop_range_m)
+            .filter(reachable)?
+    } else {
+        let region_m = geometry.center_of(*path.get(region_index)?);
+        path[..region_index]
+            .iter()
+            .rev()
+            .map(|&cell| geometry.center_of(cell))
+            .find(|centre_m| distance_m(*centre_m, region_m) >= BACK_HOP_MARGIN_M)
+            .filter(reachable)?
+    };
+    Some(ScoutDecision {
         region_index,
         target_m,
     })
 }
+
+/// A hop back over a region lands this far before it, on the rover's side, metres.
+const BACK_HOP_MARGIN_M: f64 = 3.0;
 
 pub(crate) fn distance_m(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
@@ -159,5 +188,16 @@ mod tests {
         assert!(choose_target(&geometry, &path, 38, [37.5, 10.5], 20.0, 5.0).is_none());
         // The region is out of reach.
         assert!(choose_target(&geometry, &path, 35, [0.5, 10.5], 20.0, 5.0).is_none());
+    }
+
+    #[test]
+    fn a_jumper_past_the_region_hops_back_over_it() {
+        let geometry = MapGeometry::new(0.0, 0.0, 1.0, 40, 20).unwrap();
+        let path = straight_path(40);
+        // The jumper waits at the end of the path; the region starts at cell 20.
+        let decision = choose_target(&geometry, &path, 20, [38.5, 10.5], 25.0, 5.0).unwrap();
+        assert_eq!(decision.target_m, [17.5, 10.5], "3 m short of the region");
+        // Too far back for one hop.
+        assert!(choose_target(&geometry, &path, 20, [38.5, 10.5], 15.0, 5.0).is_none());
     }
 }

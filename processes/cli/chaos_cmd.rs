@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use hopnav_supervisor::fault_injector::FaultRecord;
-use hopnav_supervisor::{LaunchOptions, launch};
+use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 use serde::Serialize;
 
 use crate::registry;
@@ -157,6 +157,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         (base.watchdog.heartbeat_timeout_frames as f64 * base.run.frame_period_s() * 1e3) as u64;
     let mut draw = Draw(args.seed);
     let mut runs = Vec::new();
+    let mut interrupted = false;
     for run in 0..args.runs {
         let mut config = base.clone();
         config.run.lockstep = true;
@@ -186,7 +187,12 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         });
         let after = hopnav_ipc::namespace::hopnav_files().len();
         let record = match outcome {
+            Err(LaunchError::Interrupted) => {
+                interrupted = true;
+                break;
+            }
             Ok(outcome) => {
+                interrupted = outcome.interrupted;
                 let panics = count_panics(&outcome.report);
                 ChaosRun {
                     run,
@@ -222,6 +228,11 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             },
         };
         runs.push(record);
+        if interrupted {
+            // Ctrl-C (or SIGTERM) stops the whole chaos run, not just this launch; the table
+            // and chaos.json below keep what finished.
+            break;
+        }
     }
     print_table(&runs, base.run.frame_period_s());
     let path = args.out.join("chaos.json");
@@ -233,6 +244,14 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         return ExitCode::FAILURE;
     }
     println!("details: {}", path.display());
+    if interrupted {
+        eprintln!(
+            "interrupted: stopped after {} of {} runs",
+            runs.len(),
+            args.runs
+        );
+        return ExitCode::from(crate::EXIT_INTERRUPTED);
+    }
     let clean = runs.iter().all(|run| {
         run.outcome.starts_with("completed") && run.leftover_files == 0 && run.panics == 0
     });

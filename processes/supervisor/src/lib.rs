@@ -16,6 +16,7 @@ pub mod mission_report;
 pub mod report;
 pub mod restart;
 pub mod scheduler;
+pub mod signals;
 mod slot;
 mod status_line;
 

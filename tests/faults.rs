@@ -26,7 +26,7 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
             "--fault",
             "kill:probe_sink@f10",
             "--fault",
-            "stall:probe_sink@f30+300ms",
+            "stall:probe_sink@f30+30ms",
             "--fault",
             "corrupt:probe_source/image@20%",
             "--fault",
@@ -44,13 +44,19 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
     assert!(kill["detected_after_s"].as_f64().is_some(), "{kill}");
     assert!(kill["recovered_after_s"].as_f64().is_some(), "{kill}");
     assert_eq!(process(&report, "probe_sink")["restarts"], 1);
+    assert_eq!(
+        process(&report, "probe_sink")["exits"][0]["restart"],
+        "standby"
+    );
 
-    let stall = fault(&report, "stall:probe_sink@f30+300ms");
+    // A freeze shorter than the watchdog's stall limit: the process resumes, no restart.
+    let stall = fault(&report, "stall:probe_sink@f30+30ms");
     assert_eq!(stall["injected_frame"], 30);
     let resumed_after_s = stall["recovered_after_s"]
         .as_f64()
         .expect("stall recovered");
-    assert!(resumed_after_s >= 0.3, "{stall}");
+    assert!(resumed_after_s >= 0.03, "{stall}");
+    assert!(stall["detected_after_s"].is_null(), "not a hang: {stall}");
 
     // Garbled headers are rejected and counted by the consumer.
     let rejected = process(&report, "probe_sink")["rejected_samples"]
@@ -90,11 +96,20 @@ fn a_stall_beyond_the_watchdog_is_a_hang_and_is_restarted() {
     let report = report(&out, &run);
     assert!(output.status.success(), "{report:#}");
     let stall = fault(&report, "stall:probe_sink@f10+30s");
-    let detected_s = stall["detected_after_s"].as_f64().expect("hang detected");
-    // Watchdog: 5 frame periods of silence (0.5 s), checked every housekeeping tick.
-    assert!((0.4..5.0).contains(&detected_s), "{stall}");
+    assert!(
+        stall["detected_after_s"].as_f64().is_some(),
+        "hang detected: {stall}"
+    );
     assert!(stall["recovered_after_s"].as_f64().is_some(), "{stall}");
-    assert_eq!(process(&report, "probe_sink")["hangs_detected"], 1);
+    let sink = process(&report, "probe_sink");
+    assert_eq!(sink["hangs_detected"], 1);
+    // A stopped process makes no progress: the stall limit applies (watchdog.
+    // stall_timeout_frames), not the longer limit for busy processes.
+    let reason = sink["exits"][0]["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("hung (stopped, no heartbeat for"),
+        "{reason}"
+    );
     assert_eq!(report["leftover_files"], 0);
 }
 

@@ -28,7 +28,8 @@ pub struct ChaosArgs {
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=1000))]
     faults_per_run: u64,
     /// Fault kinds to draw from (comma-separated): kill, stall, hang, drop, corrupt, delay.
-    /// A stall is shorter than the watchdog; a hang outlasts it.
+    /// A stall freezes a process (SIGSTOP) for less than a frame period, which it survives; a
+    /// hang freezes it until the watchdog kills it.
     #[arg(
         long,
         default_value = "kill,stall,hang,drop,corrupt,delay",
@@ -91,6 +92,7 @@ fn draw_fault(
     kinds: &[String],
     processes: &[String],
     frames: u64,
+    frame_period_ms: u64,
     watchdog_ms: u64,
 ) -> Option<String> {
     let kind = &kinds[draw.below(kinds.len() as u64) as usize];
@@ -100,11 +102,14 @@ fn draw_fault(
     let frame = frames / 10 + draw.below((frames * 8 / 10).max(1));
     Some(match kind.as_str() {
         "kill" => format!("kill:{process}@f{frame}"),
+        // Silence counts from the last heartbeat (up to a period before the stop), so a stall
+        // the watchdog lets pass is shorter than half a period.
         "stall" => format!(
             "stall:{process}@f{frame}+{}ms",
-            50 + draw.below((watchdog_ms / 2).max(1))
+            10 + draw.below((frame_period_ms * 4 / 10).max(1))
         ),
-        "hang" => format!("stall:{process}@f{frame}+{}ms", watchdog_ms * 10),
+        // Longer than any watchdog limit: only a kill ends it.
+        "hang" => format!("stall:{process}@f{frame}+{}ms", watchdog_ms * 2),
         "drop" => format!("drop:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
         "corrupt" => format!("corrupt:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
         "delay" => format!("delay:{process}@{}ms", 5 + draw.below(40)),
@@ -153,8 +158,8 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let watchdog_ms =
-        (base.watchdog.heartbeat_timeout_frames as f64 * base.run.frame_period_s() * 1e3) as u64;
+    let frame_period_ms = (base.run.frame_period_s() * 1e3) as u64;
+    let watchdog_ms = base.watchdog.heartbeat_timeout_frames as u64 * frame_period_ms;
     let mut draw = Draw(args.seed);
     let mut runs = Vec::new();
     let mut interrupted = false;
@@ -169,9 +174,14 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         let mut attempts = 0;
         while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
             attempts += 1;
-            if let Some(fault) =
-                draw_fault(&mut draw, &args.kinds, &processes, args.frames, watchdog_ms)
-            {
+            if let Some(fault) = draw_fault(
+                &mut draw,
+                &args.kinds,
+                &processes,
+                args.frames,
+                frame_period_ms,
+                watchdog_ms,
+            ) {
                 faults.push(fault);
             }
         }

@@ -9,8 +9,8 @@
 //! **Warm standby.** Start-up work that depends only on the launch's configuration (terrain,
 //! render scene, physics world) goes in [`Process::prepare`]. A standby (`hopnav run NAME
 //! --standby`, [`StartMode::Standby`]) runs `prepare` at idle CPU priority ahead of need and
-//! then waits on stdin; when the supervisor promotes it (one line: the incarnation and the
-//! in-process faults), it creates its node, opens its ports, runs `new` — which takes the
+//! creates its node, then waits on stdin; when the supervisor promotes it (one line: the
+//! incarnation and the in-process faults), it opens its ports, runs `new` — which takes the
 //! prepared parts with [`take_prepared`] and resumes from history — and reports ready. A
 //! restart then costs port set-up and state recovery, not process start-up.
 
@@ -247,6 +247,12 @@ pub fn run_process_with<P: Process>(
         *slot = prepared.0;
     }
     trace.phase("prepare");
+    let namespace = Namespace::new(&identity.run_id)?.without_dead_node_scans();
+    // A standby creates its node ahead too (no ports: it receives nothing, blocks no topic).
+    let standby_node = match mode {
+        StartMode::Standby => Some(namespace.create_node(&identity.name)?),
+        StartMode::Cold => None,
+    };
     match mode {
         StartMode::Cold => crate::fault::install_from_env(),
         StartMode::Standby => {
@@ -265,8 +271,10 @@ pub fn run_process_with<P: Process>(
         reason: error.to_string(),
     })?;
     let step_delay = crate::fault::step_delay();
-    let namespace = Namespace::new(&identity.run_id)?.without_dead_node_scans();
-    let node = namespace.create_node(&identity.name)?;
+    let node = match standby_node {
+        Some(node) => node,
+        None => namespace.create_node(&identity.name)?,
+    };
     trace.phase("node");
     let context = ProcessContext { node, identity };
     let step_commands =

@@ -19,7 +19,9 @@ use iceoryx2::waitset::WaitSetRunResult;
 use crate::LaunchError;
 use crate::child::{ChildProcess, ChildSpec, ProgressSample};
 use crate::fault_injector::{FaultAction, FaultInjector};
+use crate::janitor::Janitor;
 use crate::mission::MissionObserver;
+use crate::relay::SlotRelays;
 use crate::report::ExitRecord;
 use crate::restart::RestartDecision;
 use crate::scheduler::{FrameOutcome, FrameScheduler, Release};
@@ -69,6 +71,8 @@ pub struct SupervisorPorts {
     pub mission: Option<MissionObserver>,
     /// Faults to inject.
     pub faults: FaultInjector,
+    /// State relays of the stateful processes (their last pose, for a restart).
+    pub relays: Vec<SlotRelays>,
 }
 
 /// State of a running launch.
@@ -85,6 +89,8 @@ pub struct FrameLoop {
     truth: Option<Subscriber<BodyStates>>,
     last_truth: Option<BodyStates>,
     mission: Option<MissionObserver>,
+    relays: Vec<SlotRelays>,
+    janitor: Janitor,
     faults: FaultInjector,
     fault_specs: Vec<hopnav_config::fault::FaultSpec>,
     fault_actions: Vec<FaultAction>,
@@ -121,13 +127,15 @@ impl FrameLoop {
             config,
             step_publishers: ports.step_publishers,
             scheduler,
-            namespace,
             executable,
             config_path,
             status,
             truth: ports.truth,
             last_truth: None,
             mission: ports.mission,
+            relays: ports.relays,
+            janitor: Janitor::start(namespace.clone()),
+            namespace,
             faults: ports.faults,
             fault_specs,
             fault_actions: Vec::new(),
@@ -406,16 +414,23 @@ impl FrameLoop {
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)
             {
                 Ok(WaitSetRunResult::TerminationRequest) => return LoopEnd::Interrupted,
-                // A signal that only cut the wait short; termination shows up on the next wait.
-                Ok(WaitSetRunResult::Interrupt) => continue,
+                // Another signal cut the wait short (SIGCHLD: a child died): do the rounds now.
+                // A termination request shows up on the next wait.
                 Ok(_) => {}
                 Err(error) => {
                     return LoopEnd::Stopped(format!("supervisor wait failed: {error:?}"));
                 }
             }
             self.receive_heartbeats(heartbeats);
+            for relay in self
+                .relays
+                .iter_mut()
+                .flat_map(|slot| slot.relays.iter_mut())
+            {
+                relay.forward();
+            }
             self.reap_children();
-            self.watchdog();
+            self.watchdog(heartbeats);
             self.restart_due();
             self.faults
                 .due_resumes(Instant::now(), &mut self.fault_actions);
@@ -569,6 +584,15 @@ impl FrameLoop {
         match heartbeat.state() {
             Some(ProcessState::Ready) if matches!(slot.phase, Phase::Starting { .. }) => {
                 slot.phase = Phase::Running;
+                if restarted {
+                    // Before its first release: hand the restarted process its last state.
+                    for relays in self.relays.iter_mut().filter(|r| r.slot == slot_index) {
+                        relays.relays.iter_mut().for_each(|relay| relay.hand_over());
+                    }
+                }
+                let Some(slot) = self.stats.slots.get_mut(slot_index) else {
+                    return;
+                };
                 let startup_s = heartbeat.processing_time_ns as f64 * 1e-9;
                 slot.last_startup_s = Some(startup_s);
                 let since_start = self.started.elapsed().as_secs_f64();
@@ -640,8 +664,9 @@ impl FrameLoop {
             let (releases, outcomes) = self.scheduler.set_live(slot_index, false);
             self.record_outcomes(&outcomes);
             self.release(&releases);
-            // The dead node's ports still count against the topics' limits until removed.
-            self.namespace.remove_dead_nodes();
+            // The dead node's ports count against the topics' limits until removed: one dead
+            // and one new port fit every topic, so the restart need not wait for the clean-up.
+            self.janitor.sweep();
             let slot = &mut self.stats.slots[slot_index];
             match decision {
                 RestartDecision::RestartAfter(delay) => {
@@ -680,13 +705,39 @@ impl FrameLoop {
     /// they make no progress (stopped, or asleep without using CPU since the silence began),
     /// after `watchdog.heartbeat_timeout_frames` whatever they do, and after
     /// `run.startup_timeout_s` if they never got ready.
-    fn watchdog(&mut self) {
+    fn watchdog(&mut self, heartbeats: &Subscriber<Heartbeat>) {
+        // Judge on fresh news: whatever the loop did since it last read heartbeats (reaping,
+        // cleaning up a dead node) must not count as the children's silence.
+        self.receive_heartbeats(heartbeats);
+        let hung = self.hung_processes();
+        if hung.is_empty() {
+            return;
+        }
+        // A last look: the supervisor itself may have been preempted since the read above.
+        self.receive_heartbeats(heartbeats);
+        let still_hung = self.hung_processes();
+        for (slot_index, why) in still_hung {
+            if !hung.iter().any(|(index, _)| *index == slot_index) {
+                continue; // only now past a limit: judged again on the next round
+            }
+            let slot = &mut self.stats.slots[slot_index];
+            if let Some(child) = slot.child.as_mut() {
+                slot.hangs_detected += 1;
+                slot.killed_for_hang = Some(why);
+                child.kill();
+            }
+        }
+    }
+
+    /// The processes the watchdog finds hung now, with the reason.
+    fn hung_processes(&mut self) -> Vec<(usize, String)> {
+        let mut hung = Vec::new();
         let period = self.period;
         let hard_limit = period * self.config.watchdog.heartbeat_timeout_frames;
         let stall_limit = period.mul_f64(self.config.watchdog.stall_timeout_frames);
         let startup_limit = Duration::from_secs_f64(self.config.run.startup_timeout_s);
         let now = Instant::now();
-        for slot in &mut self.stats.slots {
+        for (slot_index, slot) in self.stats.slots.iter_mut().enumerate() {
             if slot.killed_for_hang.is_some() {
                 continue; // killed already, waiting to be reaped
             }
@@ -730,14 +781,11 @@ impl FrameLoop {
                     None
                 }
             };
-            if let Some(why) = why
-                && let Some(child) = slot.child.as_mut()
-            {
-                slot.hangs_detected += 1;
-                slot.killed_for_hang = Some(why);
-                child.kill();
+            if let Some(why) = why {
+                hung.push((slot_index, why));
             }
         }
+        hung
     }
 
     fn restart_due(&mut self) {

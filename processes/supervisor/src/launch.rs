@@ -85,6 +85,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     if crate::signals::termination_requested() {
         return Err(LaunchError::Interrupted);
     }
+    crate::signals::wake_on_child_exit();
     let stale = namespace::cleanup_dead_runs();
     if !stale.dead_runs.is_empty() {
         eprintln!(
@@ -164,6 +165,9 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             slots.iter().position(|slot| slot.name == name)
         })
         .map_err(LaunchError::Fault)?;
+        let relays = crate::relay::open_relays(&node, |name| {
+            slots.iter().position(|slot| slot.name == name)
+        });
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
@@ -172,6 +176,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
                 truth,
                 mission,
                 faults,
+                relays,
             },
             namespace.clone(),
             options.executable.clone(),

@@ -143,3 +143,60 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
     );
     assert_eq!(output.status.code(), Some(2));
 }
+
+/// The default cooperative mission in lockstep, with every process but physics killed once
+/// (jumper_vo twice: in flight, then at rest): each restart is a promotion of a prepared
+/// standby, the VO processes continue from their last pose (not from the start point), the
+/// mapper from its snapshot, the planner replans, and the rover still reaches the goal as
+/// closely as without faults. (A physics restart starts the simulation over: its state is
+/// not recovered yet.)
+#[test]
+fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
+    let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
+    let output = launch(
+        &out,
+        &run,
+        &[
+            "--lockstep",
+            "--fault",
+            "kill:jumper_vo@f25",
+            "--fault",
+            "kill:camera@f30",
+            "--fault",
+            "kill:rover_vo@f150",
+            "--fault",
+            "kill:mapper@f200",
+            "--fault",
+            "kill:planner@f250",
+            "--fault",
+            "kill:jumper_vo@f300",
+        ],
+    );
+    let report = report(&out, &run);
+    assert!(output.status.success(), "{report:#}");
+    let mission = &report["mission"];
+    assert_eq!(mission["goal_reached"], true, "{mission}");
+    assert!(
+        mission["final_distance_to_goal_m"].as_f64().unwrap() < 1.0,
+        "{mission}"
+    );
+    for (name, kills) in [
+        ("camera", 1),
+        ("jumper_vo", 2),
+        ("rover_vo", 1),
+        ("mapper", 1),
+        ("planner", 1),
+    ] {
+        let process = process(&report, name);
+        assert_eq!(process["restarts"], kills, "{name}: {process}");
+        assert_eq!(process["hangs_detected"], 0, "{name}: {process}");
+        for exit in process["exits"].as_array().unwrap() {
+            assert_eq!(exit["reason"], "killed by signal 9", "{name}: {exit}");
+            assert_eq!(exit["restart"], "standby", "{name}: {exit}");
+            assert!(exit["recovered_after_s"].as_f64().is_some(), "{exit}");
+        }
+    }
+    assert_eq!(process(&report, "physics")["restarts"], 0);
+    assert_eq!(report["leftover_files"], 0);
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+}

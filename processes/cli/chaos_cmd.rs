@@ -298,7 +298,9 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
         "mission"
     );
     let mut all_recoveries = Vec::new();
+    let mut all_detections = Vec::new();
     let (mut injected_total, mut recovered_total, mut kills, mut kills_fast) = (0, 0, 0, 0);
+    let (mut hangs, mut hangs_fast) = (0, 0);
     for run in runs {
         let fired: Vec<&FaultRecord> = run
             .faults
@@ -314,7 +316,26 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             .filter_map(|fault| fault.recovered_after_s)
             .collect();
         recoveries.sort_by(f64::total_cmp);
+        all_detections.extend(fired.iter().filter_map(|fault| fault.detected_after_s));
         for fault in &fired {
+            // A freeze longer than two frame periods is a hang the watchdog must catch.
+            let freeze_ms = fault
+                .fault
+                .parse::<hopnav_config::fault::FaultSpec>()
+                .ok()
+                .and_then(|spec| match spec.kind {
+                    hopnav_config::fault::FaultKind::Stall { duration_ms } => Some(duration_ms),
+                    _ => None,
+                });
+            if freeze_ms.is_some_and(|ms| ms as f64 > 2e3 * frame_period_s) {
+                hangs += 1;
+                if fault
+                    .detected_after_s
+                    .is_some_and(|s| s <= 2.0 * frame_period_s)
+                {
+                    hangs_fast += 1;
+                }
+            }
             if fault.fault.starts_with("kill:") {
                 kills += 1;
                 if fault
@@ -363,5 +384,16 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             .last()
             .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
         runs.iter().map(|run| run.panics).sum::<usize>()
+    );
+    all_detections.sort_by(f64::total_cmp);
+    let _ = writeln!(
+        out,
+        "detection p50 {}, max {}; hangs detected within 2 frame periods: {hangs_fast}/{hangs}",
+        all_detections
+            .get(all_detections.len() / 2)
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
+        all_detections
+            .last()
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
     );
 }

@@ -191,7 +191,14 @@ impl ChildProcess {
         let _ = self.child.kill();
     }
 
-    /// Kills and reaps a standby (it holds no shared memory, so SIGKILL loses nothing).
+    /// Tells a standby it will not be needed: its stdin closes, and once prepared it ends
+    /// cleanly (its node removed).
+    pub fn retire(&mut self) {
+        restore_normal_priority(self.child.id()); // so that it gets to the end soon
+        self.child.stdin = None;
+    }
+
+    /// Kills and reaps a standby (the next clean-up removes its node).
     pub fn kill_and_reap(mut self) {
         restore_normal_priority(self.child.id()); // an idle-priority task may be slow to die
         let _ = self.child.kill();

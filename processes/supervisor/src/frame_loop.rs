@@ -859,12 +859,20 @@ impl FrameLoop {
     /// Asks every process to stop, waits for the grace period, then kills what is left.
     pub fn shutdown(&mut self) {
         self.status.finish();
-        // Standbys hold no shared memory: kill them outright.
-        for slot in &mut self.stats.slots {
-            if let Some(standby) = slot.standby.take() {
-                standby.kill_and_reap();
-            }
+        // Standbys end cleanly when their stdin closes (once prepared); the rest are killed.
+        let mut standbys: Vec<ChildProcess> = self
+            .stats
+            .slots
+            .iter_mut()
+            .filter_map(|slot| slot.standby.take())
+            .collect();
+        standbys.iter_mut().for_each(ChildProcess::retire);
+        let deadline = Instant::now() + Duration::from_millis(500);
+        while !standbys.is_empty() && Instant::now() < deadline {
+            standbys.retain_mut(|standby| standby.try_reap().is_none());
+            std::thread::sleep(Duration::from_millis(2));
         }
+        standbys.into_iter().for_each(ChildProcess::kill_and_reap);
         for (slot_index, publisher) in self.step_publishers.iter_mut().enumerate() {
             if self.stats.slots[slot_index].child.is_some() {
                 let _ = publisher.send_with(|tick| {

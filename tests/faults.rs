@@ -173,7 +173,8 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
         ],
     );
     let report = report(&out, &run);
-    assert!(output.status.success(), "{report:#}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{report:#}\n{stderr}");
     let mission = &report["mission"];
     assert_eq!(mission["goal_reached"], true, "{mission}");
     assert!(
@@ -188,7 +189,7 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
         ("planner", 1),
     ] {
         let process = process(&report, name);
-        assert_eq!(process["restarts"], kills, "{name}: {process}");
+        assert_eq!(process["restarts"], kills, "{name}: {process}\n{stderr}");
         assert_eq!(process["hangs_detected"], 0, "{name}: {process}");
         for exit in process["exits"].as_array().unwrap() {
             assert_eq!(exit["reason"], "killed by signal 9", "{name}: {exit}");

@@ -108,9 +108,11 @@ fn sigint_stops_the_whole_chaos_run_and_keeps_what_finished() {
     let text = std::fs::read_to_string(out.join("chaos.json")).expect("chaos.json written");
     let runs: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     let runs = runs.as_array().expect("array of runs");
-    // The probe graph is up within the half second: the signal hit the frame loop.
+    // The signal hit the first launch (in its frame loop, or still starting on a busy
+    // machine): it is the only one recorded.
     assert_eq!(runs.len(), 1, "{text}");
-    assert_eq!(runs[0]["outcome"], "interrupted");
+    let outcome = runs[0]["outcome"].as_str().unwrap_or_default();
+    assert!(outcome.starts_with("interrupted"), "{text}");
     assert_eq!(runs[0]["leftover_files"], 0);
 }
 

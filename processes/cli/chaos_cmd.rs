@@ -199,7 +199,16 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         let record = match outcome {
             Err(LaunchError::Interrupted) => {
                 interrupted = true;
-                break;
+                ChaosRun {
+                    run,
+                    outcome: "interrupted (during start-up)".into(),
+                    mission: None,
+                    faults: Vec::new(),
+                    hopnav_files_before: before,
+                    hopnav_files_after: after,
+                    leftover_files: 0,
+                    panics: 0,
+                }
             }
             Ok(outcome) => {
                 interrupted = outcome.interrupted;

@@ -159,9 +159,9 @@ pub fn leftover_files(run_id: &str) -> Vec<PathBuf> {
     let mut found = Vec::new();
     for dir in [
         "/dev/shm",
-        "/tmp/iceoryx2",
-        "/tmp/iceoryx2/nodes",
-        "/tmp/iceoryx2/services",
+        hopnav_ipc::namespace::ROOT_PATH,
+        "/dev/shm/hopnav-iceoryx2/nodes",
+        "/dev/shm/hopnav-iceoryx2/services",
     ] {
         collect(Path::new(dir), &prefix, &mut found, 2);
     }

@@ -709,18 +709,19 @@ impl FrameLoop {
         // Judge on fresh news: whatever the loop did since it last read heartbeats (reaping,
         // cleaning up a dead node) must not count as the children's silence.
         self.receive_heartbeats(heartbeats);
+        let judged_at = Instant::now();
         let hung = self.hung_processes();
         if hung.is_empty() {
             return;
         }
-        // A last look: the supervisor itself may have been preempted since the read above.
+        // A last look, without reading /proc again: a process that was asleep when judged and
+        // has heartbeated since was only slow to be scheduled (or the supervisor was).
         self.receive_heartbeats(heartbeats);
-        let still_hung = self.hung_processes();
-        for (slot_index, why) in still_hung {
-            if !hung.iter().any(|(index, _)| *index == slot_index) {
-                continue; // only now past a limit: judged again on the next round
-            }
+        for (slot_index, why) in hung {
             let slot = &mut self.stats.slots[slot_index];
+            if slot.last_heartbeat >= judged_at {
+                continue;
+            }
             if let Some(child) = slot.child.as_mut() {
                 slot.hangs_detected += 1;
                 slot.killed_for_hang = Some(why);

@@ -26,7 +26,7 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
             "--fault",
             "kill:probe_sink@f10",
             "--fault",
-            "stall:probe_sink@f30+300ms",
+            "stall:probe_sink@f30+30ms",
             "--fault",
             "corrupt:probe_source/image@20%",
             "--fault",
@@ -44,13 +44,19 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
     assert!(kill["detected_after_s"].as_f64().is_some(), "{kill}");
     assert!(kill["recovered_after_s"].as_f64().is_some(), "{kill}");
     assert_eq!(process(&report, "probe_sink")["restarts"], 1);
+    assert_eq!(
+        process(&report, "probe_sink")["exits"][0]["restart"],
+        "standby"
+    );
 
-    let stall = fault(&report, "stall:probe_sink@f30+300ms");
+    // A freeze shorter than the watchdog's stall limit: the process resumes, no restart.
+    let stall = fault(&report, "stall:probe_sink@f30+30ms");
     assert_eq!(stall["injected_frame"], 30);
     let resumed_after_s = stall["recovered_after_s"]
         .as_f64()
         .expect("stall recovered");
-    assert!(resumed_after_s >= 0.3, "{stall}");
+    assert!(resumed_after_s >= 0.03, "{stall}");
+    assert!(stall["detected_after_s"].is_null(), "not a hang: {stall}");
 
     // Garbled headers are rejected and counted by the consumer.
     let rejected = process(&report, "probe_sink")["rejected_samples"]
@@ -90,11 +96,20 @@ fn a_stall_beyond_the_watchdog_is_a_hang_and_is_restarted() {
     let report = report(&out, &run);
     assert!(output.status.success(), "{report:#}");
     let stall = fault(&report, "stall:probe_sink@f10+30s");
-    let detected_s = stall["detected_after_s"].as_f64().expect("hang detected");
-    // Watchdog: 5 frame periods of silence (0.5 s), checked every housekeeping tick.
-    assert!((0.4..5.0).contains(&detected_s), "{stall}");
+    assert!(
+        stall["detected_after_s"].as_f64().is_some(),
+        "hang detected: {stall}"
+    );
     assert!(stall["recovered_after_s"].as_f64().is_some(), "{stall}");
-    assert_eq!(process(&report, "probe_sink")["hangs_detected"], 1);
+    let sink = process(&report, "probe_sink");
+    assert_eq!(sink["hangs_detected"], 1);
+    // A stopped process makes no progress: the stall limit applies (watchdog.
+    // stall_timeout_frames), not the longer limit for busy processes.
+    let reason = sink["exits"][0]["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("hung (stopped, no heartbeat for"),
+        "{reason}"
+    );
     assert_eq!(report["leftover_files"], 0);
 }
 
@@ -127,4 +142,62 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
         ],
     );
     assert_eq!(output.status.code(), Some(2));
+}
+
+/// The default cooperative mission in lockstep, with every process but physics killed once
+/// (jumper_vo twice: in flight, then at rest): each restart is a promotion of a prepared
+/// standby, the VO processes continue from their last pose (not from the start point), the
+/// mapper from its snapshot, the planner replans, and the rover still reaches the goal as
+/// closely as without faults. (A physics restart starts the simulation over: its state is
+/// not recovered yet.)
+#[test]
+fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
+    let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
+    let output = launch(
+        &out,
+        &run,
+        &[
+            "--lockstep",
+            "--fault",
+            "kill:jumper_vo@f25",
+            "--fault",
+            "kill:camera@f30",
+            "--fault",
+            "kill:rover_vo@f150",
+            "--fault",
+            "kill:mapper@f200",
+            "--fault",
+            "kill:planner@f250",
+            "--fault",
+            "kill:jumper_vo@f300",
+        ],
+    );
+    let report = report(&out, &run);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{report:#}\n{stderr}");
+    let mission = &report["mission"];
+    assert_eq!(mission["goal_reached"], true, "{mission}");
+    assert!(
+        mission["final_distance_to_goal_m"].as_f64().unwrap() < 1.0,
+        "{mission}"
+    );
+    for (name, kills) in [
+        ("camera", 1),
+        ("jumper_vo", 2),
+        ("rover_vo", 1),
+        ("mapper", 1),
+        ("planner", 1),
+    ] {
+        let process = process(&report, name);
+        assert_eq!(process["restarts"], kills, "{name}: {process}\n{stderr}");
+        assert_eq!(process["hangs_detected"], 0, "{name}: {process}");
+        for exit in process["exits"].as_array().unwrap() {
+            assert_eq!(exit["reason"], "killed by signal 9", "{name}: {exit}");
+            assert_eq!(exit["restart"], "standby", "{name}: {exit}");
+            assert!(exit["recovered_after_s"].as_f64().is_some(), "{exit}");
+        }
+    }
+    assert_eq!(process(&report, "physics")["restarts"], 0);
+    assert_eq!(report["leftover_files"], 0);
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }

@@ -15,10 +15,15 @@ fn shared_memory_is_not_readable_by_other_users() {
         .spawn()
         .expect("spawn launch");
     let files = || leftover_files(&run);
+    // Look once the graph runs. (iceoryx2 makes its per-namespace management segment
+    // world-accessible on purpose the moment the supervisor creates its first node; the
+    // supervisor takes that back right after, before it starts any child. The segment holds
+    // a node counter, no data.)
     assert!(
-        wait_until(Duration::from_secs(20), || files()
-            .iter()
-            .any(|path| path.starts_with("/dev/shm"))),
+        wait_until(Duration::from_secs(20), || {
+            serving_pids_with_args(&["run", &run]).len() == 2
+                && files().iter().any(|path| path.starts_with("/dev/shm"))
+        }),
         "no shared memory appeared"
     );
     let mut checked = 0;

@@ -15,7 +15,11 @@ fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
         .expect("spawn launch");
     let children = || pids_with_args(&["run", &run]);
     assert!(
-        wait_until(Duration::from_secs(20), || children().len() == 2),
+        wait_until(Duration::from_secs(20), || serving_pids_with_args(&[
+            "run", &run
+        ])
+        .len()
+            == 2),
         "children never started"
     );
     std::thread::sleep(Duration::from_millis(300));
@@ -63,7 +67,9 @@ fn sigterm_stops_the_launch_cleanly_with_a_report() {
         .spawn()
         .expect("spawn launch");
     let children = || pids_with_args(&["run", &run]);
-    assert!(wait_until(Duration::from_secs(20), || children().len() == 2));
+    assert!(wait_until(Duration::from_secs(20), || {
+        serving_pids_with_args(&["run", &run]).len() == 2
+    }));
     std::thread::sleep(Duration::from_millis(500));
     signal(supervisor.id() as i32, libc::SIGTERM);
     let status = wait_with_limit(&mut supervisor, Duration::from_secs(30)).expect("stopped");

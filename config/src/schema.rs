@@ -63,8 +63,12 @@ impl RunConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WatchdogConfig {
-    /// Frame periods without a heartbeat before a process counts as hung.
+    /// Frame periods without a heartbeat before a process counts as hung, whatever it does
+    /// (a step that runs away while using CPU).
     pub heartbeat_timeout_frames: u32,
+    /// Frame periods without a heartbeat before a process that makes no progress (stopped,
+    /// or asleep without using CPU) counts as hung. Processes heartbeat every period.
+    pub stall_timeout_frames: f64,
 }
 
 /// Restart intensity and backoff, per process.
@@ -79,6 +83,8 @@ pub struct RestartConfig {
     pub backoff_initial_ms: u64,
     /// Largest backoff delay.
     pub backoff_max_ms: u64,
+    /// Keep a prepared standby of every restartable process, promoted on a restart.
+    pub warm_standby: bool,
 }
 
 /// When a process that exited is started again.

@@ -51,6 +51,12 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
         2,
         100_000,
     )?;
+    check_f64(
+        "watchdog.stall_timeout_frames",
+        config.watchdog.stall_timeout_frames,
+        1.1,
+        f64::from(config.watchdog.heartbeat_timeout_frames),
+    )?;
     config.faults.specs().map_err(|error| ConfigError::Schema {
         key: "faults.inject".into(),
         message: error.to_string(),

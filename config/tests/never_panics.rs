@@ -58,7 +58,10 @@ const KNOWN: &[(&str, &[&str])] = &[
             "out_dir",
         ],
     ),
-    ("watchdog", &["heartbeat_timeout_frames"]),
+    (
+        "watchdog",
+        &["heartbeat_timeout_frames", "stall_timeout_frames"],
+    ),
     (
         "restart",
         &[
@@ -66,6 +69,7 @@ const KNOWN: &[(&str, &[&str])] = &[
             "window_s",
             "backoff_initial_ms",
             "backoff_max_ms",
+            "warm_standby",
         ],
     ),
     ("probe", &["width_px", "height_px"]),

@@ -136,9 +136,15 @@ fn parse_plan(text: &str) -> Result<FaultPlan, FaultEnvError> {
 
 /// Reads `HOPNAV_FAULTS` once per process (absent = no faults).
 pub fn install_from_env() -> Result<(), FaultEnvError> {
-    let plan = match std::env::var(FAULTS_ENV) {
-        Ok(text) => parse_plan(&text)?,
-        Err(_) => FaultPlan::default(),
+    install(std::env::var(FAULTS_ENV).ok().as_deref())
+}
+
+/// Installs faults in the `HOPNAV_FAULTS` format (`None` = no faults); a warm standby gets
+/// them on promotion, when its incarnation is known. The first call per process wins.
+pub fn install(text: Option<&str>) -> Result<(), FaultEnvError> {
+    let plan = match text {
+        Some(text) => parse_plan(text)?,
+        None => FaultPlan::default(),
     };
     let _ = PLAN.set(Mutex::new(plan));
     Ok(())

@@ -17,6 +17,11 @@ use crate::IpcService;
 
 /// Prefix of every hopnav file in the iceoryx2 and shared-memory directories.
 pub const FILE_PREFIX: &str = "hopnav_";
+/// Where iceoryx2 keeps its node and service files (its default is /tmp/iceoryx2, on disk):
+/// on tmpfs beside the shared memory, so creating a node or a port never waits for a disk
+/// journal (a restart creates a dozen of these files), and nothing outlives a reboot.
+pub const ROOT_PATH: &str = "/dev/shm/hopnav-iceoryx2/";
+
 /// Longest accepted run id (iceoryx2 file names are limited).
 pub const MAX_RUN_ID_LEN: usize = 48;
 
@@ -55,7 +60,7 @@ impl Namespace {
         if run_id.is_empty() || run_id.len() > MAX_RUN_ID_LEN || !valid_chars {
             return Err(NamespaceError::BadRunId(run_id.to_owned()));
         }
-        let mut config = Config::default();
+        let mut config = root_config();
         let prefix = format!("{FILE_PREFIX}{run_id}_");
         config.global.prefix = FileName::new(prefix.as_bytes())
             .map_err(|_| NamespaceError::BadRunId(run_id.to_owned()))?;
@@ -66,6 +71,17 @@ impl Namespace {
             run_id: run_id.to_owned(),
             config,
         })
+    }
+
+    /// The same namespace without iceoryx2's dead-node scans on node creation and on every
+    /// service open: for the supervisor's children. The supervisor removes a dead child's
+    /// resources as soon as it reaps it, before the restart, and the next launch removes those
+    /// of a dead supervisor, so the scans (a few file opens per node, per service) only slow a
+    /// restart down.
+    pub fn without_dead_node_scans(mut self) -> Self {
+        self.config.global.node.cleanup_dead_nodes_on_creation = false;
+        self.config.global.service.cleanup_dead_nodes_on_open = false;
+        self
     }
 
     /// The run id this namespace belongs to.
@@ -224,9 +240,18 @@ pub fn cleanup_dead_runs() -> StaleCleanup {
 /// Node-less files younger than this may belong to a launch that is starting.
 const FRESH_RUN_AGE: std::time::Duration = std::time::Duration::from_secs(10);
 
+/// iceoryx2's default configuration with hopnav's [`ROOT_PATH`].
+fn root_config() -> Config {
+    let mut config = Config::default();
+    if let Ok(root) = iceoryx2::prelude::Path::new(ROOT_PATH.as_bytes()) {
+        config.global.set_root_path(&root);
+    }
+    config
+}
+
 /// Every hopnav file in the iceoryx2 root directories and in /dev/shm.
 pub fn hopnav_files() -> Vec<PathBuf> {
-    let config = Config::default();
+    let config = root_config();
     let root = PathBuf::from(config.global.root_path().to_string());
     let mut dirs = vec![PathBuf::from("/dev/shm"), root.clone()];
     dirs.push(root.join(config.global.node.directory.to_string()));

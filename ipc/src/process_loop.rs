@@ -2,10 +2,22 @@
 //! ready, then `step` once per released frame with a heartbeat carrying the frame index and
 //! its processing time, and stop cleanly on SIGTERM/SIGINT or the supervisor's shutdown.
 //!
-//! The loop waits on a WaitSet (its step topic's events) with a timeout of one frame period:
-//! an idle process still heartbeats once a period, so the supervisor can tell idle from hung.
+//! The loop waits on a WaitSet (its step topic's events) with a timeout that ends when the
+//! next heartbeat is due: an idle process heartbeats once a period, so the supervisor can tell
+//! idle from hung within a frame or two.
+//!
+//! **Warm standby.** Start-up work that depends only on the launch's configuration (terrain,
+//! render scene, physics world) goes in [`Process::prepare`]. A standby (`hopnav run NAME
+//! --standby`, [`StartMode::Standby`]) runs `prepare` at idle CPU priority ahead of need and
+//! creates its node, then waits on stdin; when the supervisor promotes it (one line: the
+//! incarnation and the in-process faults), it opens its ports, runs `new` — which takes the
+//! prepared parts with [`take_prepared`] and resumes from history — and reports ready. A
+//! restart then costs port set-up and state recovery, not process start-up.
 
-use std::time::Duration;
+use std::any::Any;
+use std::io::BufRead as _;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use iceoryx2::node::Node;
 use iceoryx2::prelude::{CallbackProgression, WaitSetBuilder};
@@ -35,6 +47,46 @@ pub struct ProcessIdentity {
     pub config_path: std::path::PathBuf,
 }
 
+/// How `hopnav run` starts a process.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StartMode {
+    /// Start at once (first start, or a restart without a standby).
+    Cold,
+    /// Prepare, then wait on stdin for the supervisor's promotion line.
+    Standby,
+}
+
+/// What [`Process::prepare`] built, kept for [`Process::new`] (see [`take_prepared`]).
+#[derive(Default)]
+pub struct Prepared(Option<Box<dyn Any + Send>>);
+
+impl Prepared {
+    /// Keeps `value` for `new`.
+    pub fn new<T: Any + Send>(value: T) -> Self {
+        Self(Some(Box::new(value)))
+    }
+}
+
+impl core::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "Prepared(..)"
+        } else {
+            "Prepared(none)"
+        })
+    }
+}
+
+/// What this OS process prepared (one process of the graph per OS process).
+static PREPARED: Mutex<Option<Box<dyn Any + Send>>> = Mutex::new(None);
+
+/// Takes what this process's [`Process::prepare`] built, if it is a `T` (once; `None` in
+/// tests and tools that call `new` directly, which then build it themselves).
+pub fn take_prepared<T: Any>() -> Option<T> {
+    let boxed = PREPARED.lock().ok()?.take()?;
+    boxed.downcast::<T>().ok().map(|value| *value)
+}
+
 /// What a process gets to open its ports and read its settings.
 pub struct ProcessContext {
     /// The process's node; open topics on it.
@@ -48,7 +100,14 @@ pub trait Process: Sized {
     /// Why the process failed; a failure ends the process with a non-zero exit code.
     type Error: core::fmt::Display;
 
-    /// Opens ports and allocates everything the steps need.
+    /// Start-up work that depends only on the configuration file (no ports, no state): a warm
+    /// standby does it before it is needed. Hand the result to `new` with [`Prepared::new`];
+    /// `new` takes it back with [`take_prepared`]. Default: nothing.
+    fn prepare(_identity: &ProcessIdentity) -> Result<Prepared, Self::Error> {
+        Ok(Prepared::default())
+    }
+
+    /// Opens ports, recovers state from history and allocates everything the steps need.
     fn new(context: &ProcessContext) -> Result<Self, Self::Error>;
 
     /// Processes frame `tick.stamp.frame_index`.
@@ -78,10 +137,13 @@ pub enum LoopError {
     /// The WaitSet failed.
     #[error("waiting for frames failed: {0}")]
     Wait(String),
-    /// The process's own `new` or `step` failed.
+    /// The standby could not read its promotion.
+    #[error("standby: {0}")]
+    Standby(String),
+    /// The process's own `prepare`, `new` or `step` failed.
     #[error("{stage} failed: {reason}")]
     Process {
-        /// `new` or `step`.
+        /// `prepare`, `new` or `step`.
         stage: &'static str,
         /// The process's reason.
         reason: String,
@@ -121,15 +183,99 @@ impl HeartbeatSender {
     }
 }
 
-/// Runs process `P` until shutdown or a termination signal.
+/// Runs process `P` until shutdown or a termination signal (a cold start).
 pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, LoopError> {
-    crate::fault::install_from_env().map_err(|error| LoopError::Process {
+    run_process_with::<P>(identity, StartMode::Cold)
+}
+
+/// Environment variable that makes a process print how long each start-up phase took.
+pub const TRACE_STARTUP_ENV: &str = "HOPNAV_TRACE_STARTUP";
+
+/// Start-up phases, printed to stderr when `HOPNAV_TRACE_STARTUP` is set.
+struct StartupTrace {
+    name: String,
+    started: Instant,
+    last: Instant,
+    enabled: bool,
+}
+
+impl StartupTrace {
+    fn new(name: &str) -> Self {
+        let now = Instant::now();
+        Self {
+            name: name.to_owned(),
+            started: now,
+            last: now,
+            enabled: std::env::var_os(TRACE_STARTUP_ENV).is_some(),
+        }
+    }
+
+    fn restart_clock(&mut self) {
+        self.started = Instant::now();
+        self.last = self.started;
+    }
+
+    fn phase(&mut self, what: &str) {
+        let now = Instant::now();
+        if self.enabled {
+            eprintln!(
+                "[{}] start-up: {what} {:.1} ms (total {:.1} ms)",
+                self.name,
+                (now - self.last).as_secs_f64() * 1e3,
+                (now - self.started).as_secs_f64() * 1e3
+            );
+        }
+        self.last = now;
+    }
+}
+
+/// Runs process `P` until shutdown or a termination signal; a [`StartMode::Standby`] first
+/// prepares and waits for its promotion (stdin closing instead ends it quietly).
+pub fn run_process_with<P: Process>(
+    mut identity: ProcessIdentity,
+    mode: StartMode,
+) -> Result<LoopExit, LoopError> {
+    let mut trace = StartupTrace::new(&identity.name);
+    if mode == StartMode::Standby {
+        set_idle_priority(true);
+    }
+    let prepared = P::prepare(&identity).map_err(|error| LoopError::Process {
+        stage: "prepare",
+        reason: error.to_string(),
+    })?;
+    if let Ok(mut slot) = PREPARED.lock() {
+        *slot = prepared.0;
+    }
+    trace.phase("prepare");
+    let namespace = Namespace::new(&identity.run_id)?.without_dead_node_scans();
+    // A standby creates its node ahead too (no ports: it receives nothing, blocks no topic).
+    let standby_node = match mode {
+        StartMode::Standby => Some(namespace.create_node(&identity.name)?),
+        StartMode::Cold => None,
+    };
+    match mode {
+        StartMode::Cold => crate::fault::install_from_env(),
+        StartMode::Standby => {
+            notify_prepared();
+            let Some(promotion) = wait_for_promotion()? else {
+                return Ok(LoopExit::Shutdown); // the supervisor no longer needs us
+            };
+            set_idle_priority(false);
+            trace.restart_clock();
+            identity.incarnation = promotion.incarnation;
+            crate::fault::install(promotion.faults.as_deref())
+        }
+    }
+    .map_err(|error| LoopError::Process {
         stage: "faults",
         reason: error.to_string(),
     })?;
     let step_delay = crate::fault::step_delay();
-    let namespace = Namespace::new(&identity.run_id)?;
-    let node = namespace.create_node(&identity.name)?;
+    let node = match standby_node {
+        Some(node) => node,
+        None => namespace.create_node(&identity.name)?,
+    };
+    trace.phase("node");
     let context = ProcessContext { node, identity };
     let step_commands =
         Subscriber::<FrameTick>::open(&context.node, &topics::step(&context.identity.name))?;
@@ -143,11 +289,17 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
         },
         last_sent_ns: 0,
     };
+    trace.phase("step and heartbeat ports");
     let mut process = P::new(&context).map_err(|error| LoopError::Process {
         stage: "new",
         reason: error.to_string(),
     })?;
+    trace.phase("new");
+    // A ready heartbeat carries the start-up time (from start, or from promotion).
+    heartbeat.template.processing_time_ns = trace.started.elapsed().as_nanos() as u64;
     heartbeat.send(ProcessState::Ready, 0)?;
+    heartbeat.template.processing_time_ns = 0;
+    trace.phase("ready");
 
     let waitset = WaitSetBuilder::new()
         .create::<IpcService>()
@@ -159,10 +311,13 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
     let mut last_frame = NO_FRAME;
 
     let exit = loop {
-        let wait = waitset.wait_and_process_once_with_timeout(
-            |_| CallbackProgression::Continue,
-            context.identity.heartbeat_period,
-        );
+        // Wake when the next heartbeat is due, not a full period after any event: the
+        // supervisor's watchdog counts on one heartbeat per period.
+        let since_heartbeat_ns = monotonic_now_ns().saturating_sub(heartbeat.last_sent_ns);
+        let until_heartbeat = Duration::from_nanos(period_ns.saturating_sub(since_heartbeat_ns))
+            .max(Duration::from_millis(1));
+        let wait = waitset
+            .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, until_heartbeat);
         match wait {
             Ok(WaitSetRunResult::TerminationRequest) => break LoopExit::Signal,
             // Any other signal (SIGCONT after a stop, …) only cut the wait short; a SIGTERM or
@@ -222,4 +377,127 @@ pub fn run_process<P: Process>(identity: ProcessIdentity) -> Result<LoopExit, Lo
     let rejected = process.rejected_samples() + step_commands.rejected().total();
     let _ = heartbeat.send(ProcessState::Stopping, rejected);
     Ok(exit)
+}
+
+/// The supervisor's promotion of a standby.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Promotion {
+    /// Starts of this slot before this one.
+    pub incarnation: u32,
+    /// In-process faults in the `HOPNAV_FAULTS` format, if any.
+    pub faults: Option<String>,
+}
+
+impl Promotion {
+    /// The line the supervisor writes to the standby's stdin.
+    pub fn to_line(&self) -> String {
+        let faults = self.faults.as_deref().unwrap_or("").replace('\n', " ");
+        format!("promote {} {faults}\n", self.incarnation)
+    }
+
+    /// Parses [`Self::to_line`]'s output.
+    pub fn parse(line: &str) -> Option<Self> {
+        let rest = line
+            .trim_end_matches(['\n', '\r'])
+            .strip_prefix("promote ")?;
+        let (incarnation, faults) = rest.split_once(' ').unwrap_or((rest, ""));
+        Some(Self {
+            incarnation: incarnation.parse().ok()?,
+            faults: (!faults.is_empty()).then(|| faults.to_owned()),
+        })
+    }
+}
+
+/// Blocks until the supervisor writes the promotion line; `None` when stdin closes first.
+fn wait_for_promotion() -> Result<Option<Promotion>, LoopError> {
+    let mut line = String::new();
+    let read = std::io::stdin()
+        .lock()
+        .read_line(&mut line)
+        .map_err(|error| LoopError::Standby(format!("reading the promotion: {error}")))?;
+    if read == 0 {
+        return Ok(None);
+    }
+    Promotion::parse(&line)
+        .map(Some)
+        .ok_or_else(|| LoopError::Standby(format!("bad promotion line {line:?}")))
+}
+
+/// File descriptor on which a standby tells the supervisor it has prepared (see
+/// `hopnav_supervisor`'s child module): one line, then closed.
+pub const PREPARED_FD: i32 = 3;
+
+/// Tells the supervisor that `prepare` is done (a standby only; the supervisor gave it the
+/// write end of a pipe as fd [`PREPARED_FD`]).
+fn notify_prepared() {
+    let line = b"prepared\n";
+    // SAFETY: fstat fills a zeroed stat buffer we own; write and close touch fd PREPARED_FD
+    // only if it is a pipe (the supervisor's, set up for `--standby` children) and take no
+    // Rust-owned memory but `line`, which outlives the call. A failure only means the
+    // supervisor learns less.
+    unsafe {
+        let mut stat: libc::stat = std::mem::zeroed();
+        let is_pipe = libc::fstat(PREPARED_FD, &mut stat) == 0
+            && (stat.st_mode & libc::S_IFMT) == libc::S_IFIFO;
+        if is_pipe {
+            libc::write(PREPARED_FD, line.as_ptr().cast(), line.len());
+            libc::close(PREPARED_FD);
+        }
+    }
+}
+
+/// A standby prepares at idle priority (SCHED_IDLE), so it never takes CPU from the running
+/// graph; promotion restores the normal policy.
+fn set_idle_priority(idle: bool) {
+    let policy = if idle {
+        libc::SCHED_IDLE
+    } else {
+        libc::SCHED_OTHER
+    };
+    let param = libc::sched_param { sched_priority: 0 };
+    // SAFETY: sched_setscheduler on the calling thread (pid 0) with a valid, initialised
+    // sched_param; it only changes scheduling, and a failure leaves the policy as it was.
+    let result = unsafe { libc::sched_setscheduler(0, policy, &param) };
+    if result != 0 {
+        eprintln!(
+            "warning: cannot set scheduling policy {policy}: {}",
+            std::io::Error::last_os_error()
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn promotion_lines_round_trip() {
+        for promotion in [
+            Promotion {
+                incarnation: 3,
+                faults: None,
+            },
+            Promotion {
+                incarnation: 1,
+                faults: Some("seed=1;incarnation=1;drop:camera/jumper@10%".into()),
+            },
+        ] {
+            assert_eq!(Promotion::parse(&promotion.to_line()), Some(promotion));
+        }
+        assert_eq!(Promotion::parse("hello\n"), None);
+        assert_eq!(Promotion::parse("promote x\n"), None);
+    }
+
+    #[test]
+    fn prepared_parts_are_taken_once_and_by_type() {
+        if let Ok(mut slot) = PREPARED.lock() {
+            *slot = Prepared::new(42_u32).0;
+        }
+        assert_eq!(take_prepared::<String>(), None); // wrong type: dropped
+        if let Ok(mut slot) = PREPARED.lock() {
+            *slot = Prepared::new(42_u32).0;
+        }
+        assert_eq!(take_prepared::<u32>(), Some(42));
+        assert_eq!(take_prepared::<u32>(), None);
+    }
 }

@@ -92,6 +92,16 @@ pub const DRIVE_COMMAND: TopicSpec = TopicSpec::fixed("hopnav/planner/drive", 1,
 pub const JUMP_REQUEST: TopicSpec = TopicSpec::fixed("hopnav/planner/jump", 1, 4);
 /// physics → jumper VO: a hop was launched (commanded attitude and velocity).
 pub const HOP_LAUNCH: TopicSpec = TopicSpec::fixed("hopnav/physics/hop_launch", 1, 4);
+/// supervisor → a restarted jumper_vo: the last pose the jumper VO published. A publisher's
+/// history dies with its process, so the supervisor relays each pose here and its publisher's
+/// history hands the last one to the restarted process.
+pub const RESUME_JUMPER_POSE: TopicSpec = TopicSpec::fixed("hopnav/resume/jumper_vo/pose", 1, 2);
+/// supervisor → a restarted jumper_vo: the last hop launch (physics publishes launches only
+/// when they happen, so its own history reaches a new subscriber only at the next launch).
+pub const RESUME_HOP_LAUNCH: TopicSpec =
+    TopicSpec::fixed("hopnav/resume/jumper_vo/hop_launch", 1, 2);
+/// supervisor → a restarted rover_vo: the last pose the rover VO published.
+pub const RESUME_ROVER_POSE: TopicSpec = TopicSpec::fixed("hopnav/resume/rover_vo/pose", 1, 2);
 /// supervisor → all: launch-wide control.
 pub const CONTROL: TopicSpec = TopicSpec::fixed("hopnav/control", 1, 4);
 
@@ -120,6 +130,9 @@ mod tests {
             &JUMP_REQUEST,
             &HOP_LAUNCH,
             &CONTROL,
+            &RESUME_JUMPER_POSE,
+            &RESUME_HOP_LAUNCH,
+            &RESUME_ROVER_POSE,
         ];
         let mut names: Vec<_> = all.iter().map(|spec| spec.name.clone()).collect();
         names.sort();

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use hopnav_supervisor::fault_injector::FaultRecord;
-use hopnav_supervisor::{LaunchOptions, launch};
+use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 use serde::Serialize;
 
 use crate::registry;
@@ -28,7 +28,8 @@ pub struct ChaosArgs {
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=1000))]
     faults_per_run: u64,
     /// Fault kinds to draw from (comma-separated): kill, stall, hang, drop, corrupt, delay.
-    /// A stall is shorter than the watchdog; a hang outlasts it.
+    /// A stall freezes a process (SIGSTOP) for less than a frame period, which it survives; a
+    /// hang freezes it until the watchdog kills it.
     #[arg(
         long,
         default_value = "kill,stall,hang,drop,corrupt,delay",
@@ -91,6 +92,7 @@ fn draw_fault(
     kinds: &[String],
     processes: &[String],
     frames: u64,
+    frame_period_ms: u64,
     watchdog_ms: u64,
 ) -> Option<String> {
     let kind = &kinds[draw.below(kinds.len() as u64) as usize];
@@ -100,11 +102,14 @@ fn draw_fault(
     let frame = frames / 10 + draw.below((frames * 8 / 10).max(1));
     Some(match kind.as_str() {
         "kill" => format!("kill:{process}@f{frame}"),
+        // Silence counts from the last heartbeat (up to a period before the stop), so a stall
+        // the watchdog lets pass is shorter than half a period.
         "stall" => format!(
             "stall:{process}@f{frame}+{}ms",
-            50 + draw.below((watchdog_ms / 2).max(1))
+            10 + draw.below((frame_period_ms * 4 / 10).max(1))
         ),
-        "hang" => format!("stall:{process}@f{frame}+{}ms", watchdog_ms * 10),
+        // Longer than any watchdog limit: only a kill ends it.
+        "hang" => format!("stall:{process}@f{frame}+{}ms", watchdog_ms * 2),
         "drop" => format!("drop:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
         "corrupt" => format!("corrupt:{}@{}%", main_topic(process)?, 5 + draw.below(20)),
         "delay" => format!("delay:{process}@{}ms", 5 + draw.below(40)),
@@ -153,10 +158,11 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let watchdog_ms =
-        (base.watchdog.heartbeat_timeout_frames as f64 * base.run.frame_period_s() * 1e3) as u64;
+    let frame_period_ms = (base.run.frame_period_s() * 1e3) as u64;
+    let watchdog_ms = base.watchdog.heartbeat_timeout_frames as u64 * frame_period_ms;
     let mut draw = Draw(args.seed);
     let mut runs = Vec::new();
+    let mut interrupted = false;
     for run in 0..args.runs {
         let mut config = base.clone();
         config.run.lockstep = true;
@@ -168,9 +174,14 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         let mut attempts = 0;
         while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
             attempts += 1;
-            if let Some(fault) =
-                draw_fault(&mut draw, &args.kinds, &processes, args.frames, watchdog_ms)
-            {
+            if let Some(fault) = draw_fault(
+                &mut draw,
+                &args.kinds,
+                &processes,
+                args.frames,
+                frame_period_ms,
+                watchdog_ms,
+            ) {
                 faults.push(fault);
             }
         }
@@ -186,7 +197,21 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         });
         let after = hopnav_ipc::namespace::hopnav_files().len();
         let record = match outcome {
+            Err(LaunchError::Interrupted) => {
+                interrupted = true;
+                ChaosRun {
+                    run,
+                    outcome: "interrupted (during start-up)".into(),
+                    mission: None,
+                    faults: Vec::new(),
+                    hopnav_files_before: before,
+                    hopnav_files_after: after,
+                    leftover_files: 0,
+                    panics: 0,
+                }
+            }
             Ok(outcome) => {
+                interrupted = outcome.interrupted;
                 let panics = count_panics(&outcome.report);
                 ChaosRun {
                     run,
@@ -222,6 +247,11 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             },
         };
         runs.push(record);
+        if interrupted {
+            // Ctrl-C (or SIGTERM) stops the whole chaos run, not just this launch; the table
+            // and chaos.json below keep what finished.
+            break;
+        }
     }
     print_table(&runs, base.run.frame_period_s());
     let path = args.out.join("chaos.json");
@@ -233,6 +263,14 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         return ExitCode::FAILURE;
     }
     println!("details: {}", path.display());
+    if interrupted {
+        eprintln!(
+            "interrupted: stopped after {} of {} runs",
+            runs.len(),
+            args.runs
+        );
+        return ExitCode::from(crate::EXIT_INTERRUPTED);
+    }
     let clean = runs.iter().all(|run| {
         run.outcome.starts_with("completed") && run.leftover_files == 0 && run.panics == 0
     });
@@ -269,7 +307,9 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
         "mission"
     );
     let mut all_recoveries = Vec::new();
+    let mut all_detections = Vec::new();
     let (mut injected_total, mut recovered_total, mut kills, mut kills_fast) = (0, 0, 0, 0);
+    let (mut hangs, mut hangs_fast) = (0, 0);
     for run in runs {
         let fired: Vec<&FaultRecord> = run
             .faults
@@ -285,7 +325,26 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             .filter_map(|fault| fault.recovered_after_s)
             .collect();
         recoveries.sort_by(f64::total_cmp);
+        all_detections.extend(fired.iter().filter_map(|fault| fault.detected_after_s));
         for fault in &fired {
+            // A freeze longer than two frame periods is a hang the watchdog must catch.
+            let freeze_ms = fault
+                .fault
+                .parse::<hopnav_config::fault::FaultSpec>()
+                .ok()
+                .and_then(|spec| match spec.kind {
+                    hopnav_config::fault::FaultKind::Stall { duration_ms } => Some(duration_ms),
+                    _ => None,
+                });
+            if freeze_ms.is_some_and(|ms| ms as f64 > 2e3 * frame_period_s) {
+                hangs += 1;
+                if fault
+                    .detected_after_s
+                    .is_some_and(|s| s <= 2.0 * frame_period_s)
+                {
+                    hangs_fast += 1;
+                }
+            }
             if fault.fault.starts_with("kill:") {
                 kills += 1;
                 if fault
@@ -334,5 +393,16 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             .last()
             .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
         runs.iter().map(|run| run.panics).sum::<usize>()
+    );
+    all_detections.sort_by(f64::total_cmp);
+    let _ = writeln!(
+        out,
+        "detection p50 {}, max {}; hangs detected within 2 frame periods: {hangs_fast}/{hangs}",
+        all_detections
+            .get(all_detections.len() / 2)
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
+        all_detections
+            .last()
+            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
     );
 }

@@ -10,7 +10,7 @@ use clap::Args;
 use hopnav_config::{HopnavConfig, MissionMode};
 use hopnav_metrics::map_plot::{Track, write_map_png};
 use hopnav_supervisor::mission_report::MissionReport;
-use hopnav_supervisor::{LaunchOptions, launch};
+use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 use serde::Serialize;
 
 use crate::registry;
@@ -138,7 +138,8 @@ pub fn run(args: CompareArgs) -> ExitCode {
     let modes = [MissionMode::Cooperative, MissionMode::RoverOnly];
     let mut rows = Vec::new();
     let mut figure_written = false;
-    for index in 0..args.seeds {
+    let mut interrupted = false;
+    'seeds: for index in 0..args.seeds {
         let seed = args.first_seed + index;
         let k = if args.seeds > 1 {
             args.k_min + (args.k_max - args.k_min) * index as f64 / (args.seeds - 1) as f64
@@ -167,7 +168,12 @@ pub fn run(args: CompareArgs) -> ExitCode {
                 show_status: false,
             };
             let row = match launch(options) {
+                Err(LaunchError::Interrupted) => {
+                    interrupted = true;
+                    break 'seeds;
+                }
                 Ok(outcome) => {
+                    interrupted = outcome.interrupted;
                     if let Some(mission) = &outcome.report.mission {
                         let _ = mission.print(&mut std::io::stderr());
                     }
@@ -201,6 +207,11 @@ pub fn run(args: CompareArgs) -> ExitCode {
                 }
             };
             rows.push(row);
+            if interrupted {
+                // Ctrl-C (or SIGTERM) stops the whole comparison, not just this launch:
+                // the table and files below keep what finished.
+                break 'seeds;
+            }
         }
         if !figure_written && let (Some(mut figure), Some(track)) = (figure, rover_only_track) {
             figure.title = format!("cooperative vs rover-only, seed {seed}, k {k:.3}");
@@ -224,7 +235,16 @@ pub fn run(args: CompareArgs) -> ExitCode {
         }
     }
     print_table(&rows);
-    write_outputs(&args, &rows)
+    let code = write_outputs(&args, &rows);
+    if interrupted {
+        eprintln!(
+            "interrupted: stopped after {} of {} launches",
+            rows.len(),
+            args.seeds * 2
+        );
+        return ExitCode::from(crate::EXIT_INTERRUPTED);
+    }
+    code
 }
 
 fn print_table(rows: &[CompareRow]) {

@@ -118,13 +118,17 @@ pub fn run(args: LaunchArgs) -> ExitCode {
             let mut stdout = std::io::stdout().lock();
             let _ = outcome.report.print_summary(&mut stdout);
             println!("report: {}", outcome.run_dir.join("report.json").display());
-            if outcome.report.outcome == "interrupted" {
-                ExitCode::from(130)
+            if outcome.interrupted {
+                ExitCode::from(crate::EXIT_INTERRUPTED)
             } else if outcome.success {
                 ExitCode::SUCCESS
             } else {
                 ExitCode::FAILURE
             }
+        }
+        Err(LaunchError::Interrupted) => {
+            eprintln!("interrupted before the launch ran");
+            ExitCode::from(crate::EXIT_INTERRUPTED)
         }
         Err(error @ (LaunchError::UnknownProcess { .. } | LaunchError::Fault(_))) => {
             eprintln!("error: {error}");

@@ -49,6 +49,8 @@ enum Command {
 
 /// Exit code for a bad configuration or usage, as documented in the README.
 pub const EXIT_CONFIG: u8 = 2;
+/// Exit code after SIGINT or SIGTERM (128 + SIGINT, as shells report Ctrl-C).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();

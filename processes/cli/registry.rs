@@ -1,8 +1,10 @@
 //! Which processes this binary can run, by name.
 
-use hopnav_ipc::process_loop::{LoopError, LoopExit, ProcessIdentity, run_process};
+use hopnav_ipc::process_loop::{
+    LoopError, LoopExit, ProcessIdentity, StartMode, run_process_with as run_process,
+};
 
-type Entry = fn(ProcessIdentity) -> Result<LoopExit, LoopError>;
+type Entry = fn(ProcessIdentity, StartMode) -> Result<LoopExit, LoopError>;
 
 /// Every runnable process: name and entry point.
 pub const PROCESSES: &[(&str, Entry)] = &[

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Args;
-use hopnav_ipc::process_loop::ProcessIdentity;
+use hopnav_ipc::process_loop::{ProcessIdentity, StartMode};
 
 use crate::registry;
 
@@ -28,6 +28,9 @@ pub struct RunArgs {
     /// Heartbeat period while idle, milliseconds.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=60_000))]
     heartbeat_ms: u64,
+    /// Warm standby: prepare, then wait for the supervisor's promotion line on stdin.
+    #[arg(long)]
+    standby: bool,
 }
 
 pub fn run(args: RunArgs) -> ExitCode {
@@ -47,7 +50,12 @@ pub fn run(args: RunArgs) -> ExitCode {
         heartbeat_period: Duration::from_millis(args.heartbeat_ms),
         config_path: args.config,
     };
-    match entry(identity) {
+    let mode = if args.standby {
+        StartMode::Standby
+    } else {
+        StartMode::Cold
+    };
+    match entry(identity, mode) {
         Ok(_) => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("[{}] error: {error}", args.process);

@@ -113,6 +113,26 @@ pub fn pids_with_args(needles: &[&str]) -> Vec<i32> {
     pids
 }
 
+/// Like [`pids_with_args`], but only processes in service: a warm standby waiting for its
+/// promotion runs at SCHED_IDLE (a promoted one is back on the normal policy, though its
+/// command line still says `--standby`).
+pub fn serving_pids_with_args(needles: &[&str]) -> Vec<i32> {
+    const SCHED_IDLE: u32 = 5;
+    pids_with_args(needles)
+        .into_iter()
+        .filter(|pid| {
+            let policy = std::fs::read_to_string(format!("/proc/{pid}/stat"))
+                .ok()
+                .and_then(|stat| {
+                    let rest = stat.get(stat.rfind(')')? + 2..)?.to_owned();
+                    // Field 41 of stat is the policy; `rest` starts at field 3.
+                    rest.split(' ').nth(41 - 3)?.parse::<u32>().ok()
+                });
+            policy.is_some_and(|policy| policy != SCHED_IDLE)
+        })
+        .collect()
+}
+
 /// Waits until `condition` holds or `limit` passes; returns whether it held.
 pub fn wait_until(limit: Duration, mut condition: impl FnMut() -> bool) -> bool {
     let deadline = Instant::now() + limit;
@@ -139,9 +159,9 @@ pub fn leftover_files(run_id: &str) -> Vec<PathBuf> {
     let mut found = Vec::new();
     for dir in [
         "/dev/shm",
-        "/tmp/iceoryx2",
-        "/tmp/iceoryx2/nodes",
-        "/tmp/iceoryx2/services",
+        hopnav_ipc::namespace::ROOT_PATH,
+        "/dev/shm/hopnav-iceoryx2/nodes",
+        "/dev/shm/hopnav-iceoryx2/services",
     ] {
         collect(Path::new(dir), &prefix, &mut found, 2);
     }

@@ -1,10 +1,10 @@
-//! The camera's lifecycle: build the scene and renderers in `new`, render into loaned samples
-//! in `step`.
+//! The camera's lifecycle: build the scene and renderers in `prepare` (ahead of need in a warm
+//! standby), open the ports in `new`, render into loaned samples in `step`.
 
 use hopnav_ipc::messages::{
     BodyStates, CameraIntrinsics, FrameTick, ImageHeader, PixelFormat, Pose3, Robot,
 };
-use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentity, take_prepared};
 use hopnav_ipc::stamp::monotonic_now_ns;
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, Subscriber};
@@ -62,11 +62,17 @@ fn header(
     header
 }
 
-impl Process for CameraProcess {
-    type Error = CameraError;
+/// What the camera builds from the configuration alone, before it has any port.
+struct Scene {
+    section: CameraSection,
+    scene: RenderScene,
+    jumper_renderer: Renderer,
+    rover_renderer: Renderer,
+}
 
-    fn new(context: &ProcessContext) -> Result<Self, CameraError> {
-        let config = hopnav_config::load_file(&context.identity.config_path)?;
+impl Scene {
+    fn build(config_path: &std::path::Path) -> Result<Self, CameraError> {
+        let config = hopnav_config::load_file(config_path)?;
         let section = CameraSection::from_config(&config)?;
         let world = World::generate(&check_world_section(&config)?)?;
         let scene = RenderScene::new(&world)?;
@@ -88,6 +94,35 @@ impl Process for CameraProcess {
         .map_err(map_config)?;
         jumper_renderer.prepare(&scene);
         rover_renderer.prepare(&scene);
+        Ok(Self {
+            section,
+            scene,
+            jumper_renderer,
+            rover_renderer,
+        })
+    }
+}
+
+impl Process for CameraProcess {
+    type Error = CameraError;
+
+    /// The world, its render scene (baked textures) and both renderers: the slow part of the
+    /// start-up, which depends on the configuration only (a warm standby does it ahead).
+    fn prepare(identity: &ProcessIdentity) -> Result<Prepared, CameraError> {
+        Ok(Prepared::new(Scene::build(&identity.config_path)?))
+    }
+
+    fn new(context: &ProcessContext) -> Result<Self, CameraError> {
+        let prepared = match take_prepared::<Scene>() {
+            Some(scene) => scene,
+            None => Scene::build(&context.identity.config_path)?,
+        };
+        let Scene {
+            section,
+            scene,
+            jumper_renderer,
+            rover_renderer,
+        } = prepared;
         let jumper_len = section.jumper.width_px as usize * section.jumper.height_px as usize;
         let rover_len = 2 * section.rover.width_px as usize * section.rover.height_px as usize;
         // The mount is the pair's midpoint; the left camera sits half a baseline to the left.

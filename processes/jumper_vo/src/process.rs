@@ -60,6 +60,11 @@ pub struct JumperVoProcess {
     poses: hopnav_ipc::transport::Publisher<PoseEstimate>,
     clouds: SlicePublisher<CloudHeader>,
     keyframes: u64,
+    /// A restarted incarnation: the supervisor's relays of the last pose published and the
+    /// last hop launch before the restart, read once at the first step.
+    resume: Option<(Subscriber<PoseEstimate>, Subscriber<HopLaunch>)>,
+    /// Where the jumper rested when this incarnation started, for the next hop's start.
+    resume_position: Option<Vector3<f64>>,
 }
 
 impl JumperVoProcess {
@@ -71,7 +76,11 @@ impl JumperVoProcess {
             (_, 1) => Vector3::from(launch.world_from_body.position_m),
             // Later hops start where the VO believes the jumper landed.
             (Some(vo), _) => vo.last_world_from_body().translation.vector,
-            (None, _) => return, // no known position: wait for one
+            // Restarted while resting: the hop starts where the last pose put the jumper.
+            (None, _) => match self.resume_position.take() {
+                Some(position) => position,
+                None => return, // no known position: wait for one
+            },
         };
         let velocity = Vector3::from(launch.velocity_mps);
         let mut config = self.config.clone();
@@ -100,6 +109,51 @@ impl JumperVoProcess {
     }
 }
 
+impl JumperVoProcess {
+    /// Reads what the supervisor kept of the previous incarnation: mid-flight, the flight
+    /// continues from the last pose (a launch at that pose with the ballistic velocity of
+    /// that instant); at rest, the next hop starts from it.
+    fn resume(&mut self) -> Result<(), JumperVoProcessError> {
+        let Some((poses, launches)) = self.resume.take() else {
+            return Ok(());
+        };
+        let (pose, launch) = (poses.receive_latest()?, launches.receive_latest()?);
+        if let Some(launch) = &launch {
+            // That launch was handled before the restart; only a newer one starts a hop.
+            self.last_hop_index = launch.hop_index;
+        }
+        let Some(pose) = pose else {
+            return Ok(());
+        };
+        let position = Vector3::from(pose.world_from_body.position_m);
+        let g = self.config.gravity_mps2;
+        let in_flight = launch.filter(|launch| {
+            let since_launch_s =
+                (pose.stamp.sim_time_ns as f64 - launch.launch_time_ns as f64) * 1e-9;
+            // Ballistic flight time over flat ground, less a frame for the landing.
+            let flight_s = 2.0 * launch.velocity_mps[2] / g;
+            since_launch_s >= 0.0 && since_launch_s < flight_s - 0.1
+        });
+        match in_flight {
+            Some(launch) => {
+                let since_launch_s =
+                    (pose.stamp.sim_time_ns as f64 - launch.launch_time_ns as f64) * 1e-9;
+                let mut velocity = launch.velocity_mps;
+                velocity[2] -= g * since_launch_s;
+                self.pending_launch = Some(HopLaunch {
+                    world_from_body: pose.world_from_body,
+                    velocity_mps: velocity,
+                    launch_time_ns: pose.stamp.sim_time_ns,
+                    position_known: 1,
+                    ..launch
+                });
+            }
+            None => self.resume_position = Some(position),
+        }
+        Ok(())
+    }
+}
+
 impl Process for JumperVoProcess {
     type Error = JumperVoProcessError;
 
@@ -118,6 +172,15 @@ impl Process for JumperVoProcess {
             launches: Subscriber::open(node, &topics::HOP_LAUNCH)?,
             poses: hopnav_ipc::transport::Publisher::open(node, &topics::JUMPER_POSE)?,
             keyframes: 0,
+            resume: if context.identity.incarnation > 0 {
+                Some((
+                    Subscriber::open(node, &topics::RESUME_JUMPER_POSE)?,
+                    Subscriber::open(node, &topics::RESUME_HOP_LAUNCH)?,
+                ))
+            } else {
+                None
+            },
+            resume_position: None,
         })
     }
 
@@ -126,6 +189,7 @@ impl Process for JumperVoProcess {
         _context: &ProcessContext,
         tick: &FrameTick,
     ) -> Result<(), JumperVoProcessError> {
+        self.resume()?;
         if let Some(launch) = self.launches.receive_latest()?
             && launch.hop_index > self.last_hop_index
         {

@@ -4,7 +4,7 @@
 
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{self as msg, FrameTick, Pose3, SampleStamp};
-use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentity, take_prepared};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
 use hopnav_world::World;
@@ -160,18 +160,34 @@ impl PhysicsProcess {
     }
 }
 
+/// The simulation at its start state and the altimeter's sigma, from the configuration file.
+fn build_sim(config_path: &std::path::Path) -> Result<(PhysicsSim, f64), PhysicsProcessError> {
+    let config = hopnav_config::load_file(config_path)?;
+    let world_config: hopnav_world::WorldConfig = parse_section(&config, "world")?;
+    let world = World::generate(&world_config)?;
+    let physics = physics_section(&config)?;
+    let sim = PhysicsSim::new(&world, &physics, world_config.seed)?;
+    Ok((sim, physics.altimeter.sigma_m))
+}
+
 impl Process for PhysicsProcess {
     type Error = PhysicsProcessError;
 
+    /// The world and the rapier scene built from it: the slow part of the start-up, which
+    /// depends on the configuration only (a warm standby does it ahead).
+    fn prepare(identity: &ProcessIdentity) -> Result<Prepared, PhysicsProcessError> {
+        Ok(Prepared::new(build_sim(&identity.config_path)?))
+    }
+
     fn new(context: &ProcessContext) -> Result<Self, PhysicsProcessError> {
-        let config = hopnav_config::load_file(&context.identity.config_path)?;
-        let world_config: hopnav_world::WorldConfig = parse_section(&config, "world")?;
-        let world = World::generate(&world_config)?;
-        let physics = physics_section(&config)?;
+        let (sim, altimeter_sigma_m) = match take_prepared::<(PhysicsSim, f64)>() {
+            Some(prepared) => prepared,
+            None => build_sim(&context.identity.config_path)?,
+        };
         let node = &context.node;
         Ok(Self {
-            altimeter_sigma_m: physics.altimeter.sigma_m,
-            sim: PhysicsSim::new(&world, &physics, world_config.seed)?,
+            altimeter_sigma_m,
+            sim,
             drive_commands: Subscriber::open(node, &topics::DRIVE_COMMAND)?,
             jump_requests: Subscriber::open(node, &topics::JUMP_REQUEST)?,
             body_states: Publisher::open(node, &topics::BODY_STATES)?,

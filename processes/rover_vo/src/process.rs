@@ -104,6 +104,11 @@ pub struct RoverVoProcess {
     last_imu: Option<UnitQuaternion<f64>>,
     keyframes: u64,
     bad_headers: u64,
+    /// A restarted incarnation: the supervisor's relay of the last pose published before the
+    /// restart, read once at the first step.
+    resume: Option<Subscriber<PoseEstimate>>,
+    /// The pose to continue from, until the pipeline exists.
+    resume_pose: Option<Isometry3<f64>>,
 }
 
 /// The stereo rig a header describes, or `None` if the header is unusable.
@@ -170,6 +175,12 @@ impl Process for RoverVoProcess {
             last_imu: None,
             keyframes: 0,
             bad_headers: 0,
+            resume: if context.identity.incarnation > 0 {
+                Some(Subscriber::open(node, &topics::RESUME_ROVER_POSE)?)
+            } else {
+                None
+            },
+            resume_pose: None,
         })
     }
 
@@ -178,6 +189,12 @@ impl Process for RoverVoProcess {
         _context: &ProcessContext,
         _tick: &FrameTick,
     ) -> Result<(), RoverVoProcessError> {
+        if let Some(resume) = self.resume.take()
+            && let Some(last) = resume.receive_latest()?
+        {
+            // Restarted: continue from the last pose published, not from the start point.
+            self.resume_pose = Some(last.world_from_body.to_isometry());
+        }
         while let Some(sample) = self.imu.receive()? {
             if let Some(q) = imu_attitude(&sample) {
                 self.last_imu = Some(q);
@@ -208,7 +225,11 @@ impl Process for RoverVoProcess {
             return Ok(());
         };
         if self.vo.as_ref().is_none_or(|vo| *vo.rig() != rig) {
-            let carried = self.vo.as_ref().map(RoverVo::world_from_body);
+            let carried = self
+                .vo
+                .as_ref()
+                .map(RoverVo::world_from_body)
+                .or(self.resume_pose.take());
             let Ok(vo) = RoverVo::new(
                 self.config.clone(),
                 rig,

@@ -60,4 +60,7 @@ pub enum LaunchError {
     /// Waiting for events failed.
     #[error("supervisor wait failed: {0}")]
     Wait(String),
+    /// SIGINT or SIGTERM arrived before the frame loop ran (before or during start-up).
+    #[error("interrupted (SIGINT or SIGTERM) before the launch ran")]
+    Interrupted,
 }

@@ -10,15 +10,18 @@ use hopnav_ipc::messages::{
     BodyStates, ClockMode, FrameCommand, FrameTick, Heartbeat, ProcessState,
 };
 use hopnav_ipc::namespace::Namespace;
+use hopnav_ipc::process_loop::Promotion;
 use hopnav_ipc::stamp::monotonic_now_ns;
 use hopnav_ipc::transport::{Publisher, Subscriber};
 use iceoryx2::prelude::{CallbackProgression, WaitSet};
 use iceoryx2::waitset::WaitSetRunResult;
 
 use crate::LaunchError;
-use crate::child::{ChildProcess, ChildSpec};
+use crate::child::{ChildProcess, ChildSpec, ProgressSample};
 use crate::fault_injector::{FaultAction, FaultInjector};
+use crate::janitor::Janitor;
 use crate::mission::MissionObserver;
+use crate::relay::SlotRelays;
 use crate::report::ExitRecord;
 use crate::restart::RestartDecision;
 use crate::scheduler::{FrameOutcome, FrameScheduler, Release};
@@ -68,6 +71,8 @@ pub struct SupervisorPorts {
     pub mission: Option<MissionObserver>,
     /// Faults to inject.
     pub faults: FaultInjector,
+    /// State relays of the stateful processes (their last pose, for a restart).
+    pub relays: Vec<SlotRelays>,
 }
 
 /// State of a running launch.
@@ -84,6 +89,8 @@ pub struct FrameLoop {
     truth: Option<Subscriber<BodyStates>>,
     last_truth: Option<BodyStates>,
     mission: Option<MissionObserver>,
+    relays: Vec<SlotRelays>,
+    janitor: Janitor,
     faults: FaultInjector,
     fault_specs: Vec<hopnav_config::fault::FaultSpec>,
     fault_actions: Vec<FaultAction>,
@@ -120,13 +127,15 @@ impl FrameLoop {
             config,
             step_publishers: ports.step_publishers,
             scheduler,
-            namespace,
             executable,
             config_path,
             status,
             truth: ports.truth,
             last_truth: None,
             mission: ports.mission,
+            relays: ports.relays,
+            janitor: Janitor::start(namespace.clone()),
+            namespace,
             faults: ports.faults,
             fault_specs,
             fault_actions: Vec::new(),
@@ -170,39 +179,115 @@ impl FrameLoop {
         }
     }
 
-    fn spawn(&mut self, slot_index: usize) -> Result<(), LaunchError> {
-        let heartbeat_period_ms = (self.period.as_millis() as u64).max(1);
-        let slot = &mut self.stats.slots[slot_index];
-        let faults_env = {
-            let own: Vec<_> = self
-                .fault_specs
-                .iter()
-                .filter(|spec| spec.process == slot.name)
-                .cloned()
-                .collect();
-            hopnav_ipc::fault::encode_env(self.config.faults.seed, slot.incarnation, &own)
-        };
-        let spec = ChildSpec {
-            faults_env,
+    /// The in-process faults of `slot_index`'s current incarnation, `HOPNAV_FAULTS` format.
+    fn faults_env(&self, slot_index: usize) -> Option<String> {
+        let slot = &self.stats.slots[slot_index];
+        let own: Vec<_> = self
+            .fault_specs
+            .iter()
+            .filter(|spec| spec.process == slot.name)
+            .cloned()
+            .collect();
+        hopnav_ipc::fault::encode_env(self.config.faults.seed, slot.incarnation, &own)
+    }
+
+    fn child_spec(&self, slot_index: usize, standby: bool) -> ChildSpec<'_> {
+        let slot = &self.stats.slots[slot_index];
+        ChildSpec {
+            faults_env: if standby {
+                None
+            } else {
+                self.faults_env(slot_index)
+            },
             executable: &self.executable,
             name: &slot.name,
             run_id: self.namespace.run_id(),
             slot: slot_index,
             incarnation: slot.incarnation,
             config_path: &self.config_path,
-            heartbeat_period_ms,
-        };
-        let child = ChildProcess::spawn(&spec).map_err(|source| LaunchError::Spawn {
-            name: slot.name.clone(),
-            source,
+            heartbeat_period_ms: (self.period.as_millis() as u64).max(1),
+            standby,
+        }
+    }
+
+    /// Starts the current incarnation of `slot_index` from scratch.
+    fn spawn(&mut self, slot_index: usize) -> Result<(), LaunchError> {
+        let child = ChildProcess::spawn(&self.child_spec(slot_index, false)).map_err(|source| {
+            LaunchError::Spawn {
+                name: self.stats.slots[slot_index].name.clone(),
+                source,
+            }
         })?;
-        slot.child = Some(child);
+        self.stats.slots[slot_index].child = Some(child);
+        self.begin_starting(slot_index);
+        Ok(())
+    }
+
+    fn begin_starting(&mut self, slot_index: usize) {
+        let slot = &mut self.stats.slots[slot_index];
         slot.begin_incarnation();
         slot.phase = Phase::Starting {
             since: Instant::now(),
         };
         slot.last_heartbeat = Instant::now();
-        Ok(())
+        slot.silence_cpu_ticks = None;
+    }
+
+    /// Starts a warm standby for `slot_index` if it may have one and has none.
+    fn spawn_standby(&mut self, slot_index: usize) {
+        let slot = &self.stats.slots[slot_index];
+        let wanted = self.config.restart.warm_standby
+            && slot.config.restart != hopnav_config::RestartPolicy::Never
+            && slot.standby.is_none()
+            && !slot.standby_failed
+            && self.stop.is_none();
+        if !wanted {
+            return;
+        }
+        match ChildProcess::spawn(&self.child_spec(slot_index, true)) {
+            Ok(child) => self.stats.slots[slot_index].standby = Some(child),
+            Err(error) => {
+                let slot = &mut self.stats.slots[slot_index];
+                slot.standby_failed = true;
+                eprintln!(
+                    "\ncannot start a standby of {}: {error}; its restarts will be cold",
+                    slot.name
+                );
+            }
+        }
+    }
+
+    /// Restarts `slot_index` (its incarnation already counted up): promotes its standby if
+    /// it has one, else starts it cold. Returns how.
+    fn restart(&mut self, slot_index: usize) -> Result<&'static str, LaunchError> {
+        if let Some(mut standby) = self.stats.slots[slot_index].standby.take() {
+            let how = if standby.is_prepared() {
+                "standby"
+            } else {
+                "standby (still preparing)"
+            };
+            let promotion = Promotion {
+                incarnation: self.stats.slots[slot_index].incarnation,
+                faults: self.faults_env(slot_index),
+            };
+            match standby.promote(&promotion) {
+                Ok(()) => {
+                    self.stats.slots[slot_index].child = Some(standby);
+                    self.begin_starting(slot_index);
+                    return Ok(how);
+                }
+                Err(error) => {
+                    let slot = &mut self.stats.slots[slot_index];
+                    slot.standby_failed = true;
+                    eprintln!(
+                        "\ncannot promote the standby of {}: {error}; starting it cold",
+                        slot.name
+                    );
+                    standby.kill_and_reap();
+                }
+            }
+        }
+        self.spawn(slot_index).map(|()| "cold")
     }
 
     /// Spawns every process and waits until all report ready.
@@ -246,17 +331,69 @@ impl FrameLoop {
             match waitset
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, HOUSEKEEPING)
             {
-                Ok(WaitSetRunResult::TerminationRequest) => {
-                    return Err(LaunchError::Wait("interrupted during start-up".into()));
-                }
+                Ok(WaitSetRunResult::TerminationRequest) => return Err(LaunchError::Interrupted),
                 // A signal that only cut the wait short; termination shows up on the next wait.
                 Ok(WaitSetRunResult::Interrupt) => continue,
                 Ok(_) => {}
                 Err(error) => return Err(LaunchError::Wait(format!("{error:?}"))),
             }
         }
+        // The graph is up: now prepare the standbys (at idle priority) for quick restarts.
+        for slot_index in 0..self.stats.slots.len() {
+            self.spawn_standby(slot_index);
+        }
+        if self.config.run.lockstep {
+            // Lockstep is about reproducible runs, not wall time: let the standbys finish
+            // preparing first, so a restart at any frame is as quick as at any other.
+            self.wait_for_standbys(heartbeats, waitset, Instant::now() + timeout)?;
+        }
         self.started = Instant::now();
         Ok(())
+    }
+
+    /// Waits until every standby has prepared (or died, or the start-up deadline passed).
+    fn wait_for_standbys(
+        &mut self,
+        heartbeats: &Subscriber<Heartbeat>,
+        waitset: &WaitSet<IpcService>,
+        deadline: Instant,
+    ) -> Result<(), LaunchError> {
+        loop {
+            self.receive_heartbeats(heartbeats);
+            let mut waiting = Vec::new();
+            for slot in &mut self.stats.slots {
+                let Some(standby) = slot.standby.as_mut() else {
+                    continue;
+                };
+                if let Some(exit) = standby.try_reap() {
+                    slot.standby = None;
+                    slot.standby_failed = true;
+                    eprintln!(
+                        "the standby of {} {exit}; its restarts will be cold",
+                        slot.name
+                    );
+                } else if !standby.is_prepared() {
+                    waiting.push(slot.name.clone());
+                }
+            }
+            if waiting.is_empty() {
+                return Ok(());
+            }
+            if Instant::now() >= deadline {
+                eprintln!(
+                    "standbys still preparing after run.startup_timeout_s: {}",
+                    waiting.join(", ")
+                );
+                return Ok(());
+            }
+            match waitset
+                .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, HOUSEKEEPING)
+            {
+                Ok(WaitSetRunResult::TerminationRequest) => return Err(LaunchError::Interrupted),
+                Ok(_) => {}
+                Err(error) => return Err(LaunchError::Wait(format!("{error:?}"))),
+            }
+        }
     }
 
     /// Runs frames until all are done, a signal arrives, or the launch must stop.
@@ -277,16 +414,23 @@ impl FrameLoop {
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)
             {
                 Ok(WaitSetRunResult::TerminationRequest) => return LoopEnd::Interrupted,
-                // A signal that only cut the wait short; termination shows up on the next wait.
-                Ok(WaitSetRunResult::Interrupt) => continue,
+                // Another signal cut the wait short (SIGCHLD: a child died): do the rounds now.
+                // A termination request shows up on the next wait.
                 Ok(_) => {}
                 Err(error) => {
                     return LoopEnd::Stopped(format!("supervisor wait failed: {error:?}"));
                 }
             }
             self.receive_heartbeats(heartbeats);
+            for relay in self
+                .relays
+                .iter_mut()
+                .flat_map(|slot| slot.relays.iter_mut())
+            {
+                relay.forward();
+            }
             self.reap_children();
-            self.watchdog();
+            self.watchdog(heartbeats);
             self.restart_due();
             self.faults
                 .due_resumes(Instant::now(), &mut self.fault_actions);
@@ -440,15 +584,31 @@ impl FrameLoop {
         match heartbeat.state() {
             Some(ProcessState::Ready) if matches!(slot.phase, Phase::Starting { .. }) => {
                 slot.phase = Phase::Running;
+                if restarted {
+                    // Before its first release: hand the restarted process its last state.
+                    for relays in self.relays.iter_mut().filter(|r| r.slot == slot_index) {
+                        relays.relays.iter_mut().for_each(|relay| relay.hand_over());
+                    }
+                }
+                let Some(slot) = self.stats.slots.get_mut(slot_index) else {
+                    return;
+                };
+                let startup_s = heartbeat.processing_time_ns as f64 * 1e-9;
+                slot.last_startup_s = Some(startup_s);
                 let since_start = self.started.elapsed().as_secs_f64();
                 if let Some(exit) = slot.exits.last_mut()
                     && exit.recovered_after_s.is_none()
                 {
                     exit.recovered_after_s = Some((since_start - exit.at_s).max(0.0));
+                    exit.startup_s = Some(startup_s);
                 }
                 let (releases, outcomes) = self.scheduler.set_live(slot_index, true);
                 self.record_outcomes(&outcomes);
                 self.release(&releases);
+                if restarted {
+                    // The promoted standby is in service: prepare the next one.
+                    self.spawn_standby(slot_index);
+                }
             }
             Some(ProcessState::Completed) => {
                 if let Some(frame_index) = heartbeat.completed_frame() {
@@ -467,19 +627,27 @@ impl FrameLoop {
     }
 
     fn reap_children(&mut self) {
+        for slot in &mut self.stats.slots {
+            // A standby that ended on its own (its `prepare` failed?) is not replaced: the
+            // slot's restarts are cold from then on.
+            if let Some(exit) = slot.standby.as_mut().and_then(ChildProcess::try_reap) {
+                slot.standby = None;
+                slot.standby_failed = true;
+                eprintln!(
+                    "\nthe standby of {} {exit}; its restarts will be cold",
+                    slot.name
+                );
+            }
+        }
         for slot_index in 0..self.stats.slots.len() {
             let slot = &mut self.stats.slots[slot_index];
             let Some(exit) = slot.child.as_mut().and_then(ChildProcess::try_reap) else {
                 continue;
             };
             slot.child = None;
-            let reason = if std::mem::take(&mut slot.killed_for_hang) {
-                format!(
-                    "hung (no heartbeat for {} frame periods), killed",
-                    self.config.watchdog.heartbeat_timeout_frames
-                )
-            } else {
-                exit.to_string()
+            let reason = match slot.killed_for_hang.take() {
+                Some(why) => format!("hung ({why}), killed"),
+                None => exit.to_string(),
             };
             self.faults.on_exit(slot_index, Instant::now(), &reason);
             let slot = &mut self.stats.slots[slot_index];
@@ -488,14 +656,17 @@ impl FrameLoop {
                 at_s: self.started.elapsed().as_secs_f64(),
                 reason: reason.clone(),
                 recovered_after_s: None,
+                restart: None,
+                startup_s: None,
             });
             let name = slot.name.clone();
             let decision = slot.restarts.on_exit(&exit, Instant::now());
             let (releases, outcomes) = self.scheduler.set_live(slot_index, false);
             self.record_outcomes(&outcomes);
             self.release(&releases);
-            // The dead node's ports still count against the topics' limits until removed.
-            self.namespace.remove_dead_nodes();
+            // The dead node's ports count against the topics' limits until removed: one dead
+            // and one new port fit every topic, so the restart need not wait for the clean-up.
+            self.janitor.sweep();
             let slot = &mut self.stats.slots[slot_index];
             match decision {
                 RestartDecision::RestartAfter(delay) => {
@@ -530,25 +701,92 @@ impl FrameLoop {
         }
     }
 
-    fn watchdog(&mut self) {
-        let silence_limit = self.period * self.config.watchdog.heartbeat_timeout_frames;
-        let startup_limit = Duration::from_secs_f64(self.config.run.startup_timeout_s);
-        let now = Instant::now();
-        for slot in &mut self.stats.slots {
-            let limit = match slot.phase {
-                Phase::Running => silence_limit,
-                Phase::Starting { .. } => startup_limit,
-                _ => continue,
-            };
-            if now.duration_since(slot.last_heartbeat) > limit
-                && let Some(child) = slot.child.as_mut()
-                && !slot.killed_for_hang
-            {
+    /// Kills processes that stopped heartbeating: after `watchdog.stall_timeout_frames` if
+    /// they make no progress (stopped, or asleep without using CPU since the silence began),
+    /// after `watchdog.heartbeat_timeout_frames` whatever they do, and after
+    /// `run.startup_timeout_s` if they never got ready.
+    fn watchdog(&mut self, heartbeats: &Subscriber<Heartbeat>) {
+        // Judge on fresh news: whatever the loop did since it last read heartbeats (reaping,
+        // cleaning up a dead node) must not count as the children's silence.
+        self.receive_heartbeats(heartbeats);
+        let judged_at = Instant::now();
+        let hung = self.hung_processes();
+        if hung.is_empty() {
+            return;
+        }
+        // A last look, without reading /proc again: a process that was asleep when judged and
+        // has heartbeated since was only slow to be scheduled (or the supervisor was).
+        self.receive_heartbeats(heartbeats);
+        for (slot_index, why) in hung {
+            let slot = &mut self.stats.slots[slot_index];
+            if slot.last_heartbeat >= judged_at {
+                continue;
+            }
+            if let Some(child) = slot.child.as_mut() {
                 slot.hangs_detected += 1;
-                slot.killed_for_hang = true;
+                slot.killed_for_hang = Some(why);
                 child.kill();
             }
         }
+    }
+
+    /// The processes the watchdog finds hung now, with the reason.
+    fn hung_processes(&mut self) -> Vec<(usize, String)> {
+        let mut hung = Vec::new();
+        let period = self.period;
+        let hard_limit = period * self.config.watchdog.heartbeat_timeout_frames;
+        let stall_limit = period.mul_f64(self.config.watchdog.stall_timeout_frames);
+        let startup_limit = Duration::from_secs_f64(self.config.run.startup_timeout_s);
+        let now = Instant::now();
+        for (slot_index, slot) in self.stats.slots.iter_mut().enumerate() {
+            if slot.killed_for_hang.is_some() {
+                continue; // killed already, waiting to be reaped
+            }
+            let Some(pid) = slot.child.as_ref().map(ChildProcess::pid) else {
+                continue;
+            };
+            let silence = now.duration_since(slot.last_heartbeat);
+            let frames = silence.as_secs_f64() / period.as_secs_f64();
+            let why = match slot.phase {
+                Phase::Starting { .. } if silence > startup_limit => Some(format!(
+                    "not ready after {:.1} s (run.startup_timeout_s)",
+                    silence.as_secs_f64()
+                )),
+                Phase::Running if silence > hard_limit => Some(format!(
+                    "no heartbeat for {frames:.1} frame periods, watchdog.heartbeat_timeout_frames = {}",
+                    self.config.watchdog.heartbeat_timeout_frames
+                )),
+                Phase::Running if silence > period => {
+                    let progress = ProgressSample::read(pid);
+                    let baseline = *slot
+                        .silence_cpu_ticks
+                        .get_or_insert(progress.map_or(0, |sample| sample.cpu_ticks));
+                    match progress {
+                        Some(sample) if silence > stall_limit && sample.stopped => Some(format!(
+                            "stopped, no heartbeat for {frames:.1} frame periods"
+                        )),
+                        Some(sample)
+                            if silence > stall_limit
+                                && !sample.busy
+                                && sample.cpu_ticks == baseline =>
+                        {
+                            Some(format!(
+                                "asleep without using CPU, no heartbeat for {frames:.1} frame periods"
+                            ))
+                        }
+                        _ => None,
+                    }
+                }
+                _ => {
+                    slot.silence_cpu_ticks = None;
+                    None
+                }
+            };
+            if let Some(why) = why {
+                hung.push((slot_index, why));
+            }
+        }
+        hung
     }
 
     fn restart_due(&mut self) {
@@ -559,8 +797,13 @@ impl FrameLoop {
                 && now >= at
             {
                 slot.incarnation += 1;
-                if let Err(error) = self.spawn(slot_index) {
-                    self.stop = Some(LoopEnd::Stopped(error.to_string()));
+                match self.restart(slot_index) {
+                    Ok(how) => {
+                        if let Some(exit) = self.stats.slots[slot_index].exits.last_mut() {
+                            exit.restart = Some(how.to_owned());
+                        }
+                    }
+                    Err(error) => self.stop = Some(LoopEnd::Stopped(error.to_string())),
                 }
             }
         }
@@ -617,6 +860,20 @@ impl FrameLoop {
     /// Asks every process to stop, waits for the grace period, then kills what is left.
     pub fn shutdown(&mut self) {
         self.status.finish();
+        // Standbys end cleanly when their stdin closes (once prepared); the rest are killed.
+        let mut standbys: Vec<ChildProcess> = self
+            .stats
+            .slots
+            .iter_mut()
+            .filter_map(|slot| slot.standby.take())
+            .collect();
+        standbys.iter_mut().for_each(ChildProcess::retire);
+        let deadline = Instant::now() + Duration::from_millis(500);
+        while !standbys.is_empty() && Instant::now() < deadline {
+            standbys.retain_mut(|standby| standby.try_reap().is_none());
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        standbys.into_iter().for_each(ChildProcess::kill_and_reap);
         for (slot_index, publisher) in self.step_publishers.iter_mut().enumerate() {
             if self.stats.slots[slot_index].child.is_some() {
                 let _ = publisher.send_with(|tick| {

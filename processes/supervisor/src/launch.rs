@@ -57,6 +57,9 @@ pub struct LaunchOutcome {
     /// True when every requested frame completed, or the mission ended, and nothing stopped
     /// the launch.
     pub success: bool,
+    /// True when SIGINT or SIGTERM stopped the launch: a command running many launches
+    /// should stop too.
+    pub interrupted: bool,
     /// The mission's Fig.-6 map (cells and true tracks), when the graph ran a mission.
     pub mission_figure: Option<hopnav_metrics::map_plot::MapFigure>,
 }
@@ -80,6 +83,13 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         }
     }
 
+    // A SIGINT or SIGTERM that arrived before this launch (e.g. between the runs of
+    // `hopnav compare`) stops it before anything starts. This also installs the handler that
+    // turns later signals into a clean stop instead of the default death.
+    if crate::signals::termination_requested() {
+        return Err(LaunchError::Interrupted);
+    }
+    crate::signals::wake_on_child_exit();
     let stale = namespace::cleanup_dead_runs();
     if !stale.dead_runs.is_empty() {
         eprintln!(
@@ -139,7 +149,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         let waitset = WaitSetBuilder::new()
             .create::<IpcService>()
             .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
-        let _guard = waitset
+        let guard = waitset
             .attach_notification(heartbeats.listener())
             .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
         // A small buffer: the status line only wants the newest state.
@@ -159,6 +169,9 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             slots.iter().position(|slot| slot.name == name)
         })
         .map_err(LaunchError::Fault)?;
+        let relays = crate::relay::open_relays(&node, |name| {
+            slots.iter().position(|slot| slot.name == name)
+        });
         let mut frame_loop = FrameLoop::new(
             config.clone(),
             slots,
@@ -167,6 +180,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
                 truth,
                 mission,
                 faults,
+                relays,
             },
             namespace.clone(),
             options.executable.clone(),
@@ -174,13 +188,25 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             StatusLine::new(options.show_status),
         );
         let end = match frame_loop.start_all(&heartbeats, &waitset) {
-            Ok(()) => frame_loop.run(&heartbeats, &waitset),
+            Ok(()) => Ok(frame_loop.run(&heartbeats, &waitset)),
+            Err(error) => Err(error),
+        };
+        frame_loop.shutdown();
+        let end = match end {
+            Ok(end) => end,
             Err(error) => {
-                frame_loop.shutdown();
+                // Start-up failed: the children are stopped; drop the supervisor's ports and
+                // remove what the namespace left before reporting the error.
+                drop(frame_loop);
+                drop(guard);
+                drop(waitset);
+                drop(heartbeats);
+                drop(node);
+                std::thread::sleep(Duration::from_millis(20));
+                namespace.remove_files_if_unused();
                 return Err(error);
             }
         };
-        frame_loop.shutdown();
         // The mission's summary is taken now: its ports must die with the loop's, before the
         // namespace clean-up below.
         let mission = frame_loop.take_mission().map(|mut mission| {
@@ -213,6 +239,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     let leftover_files = namespace.leftover_files().len();
 
     let success = matches!(end, LoopEnd::Completed | LoopEnd::MissionEnded(_));
+    let interrupted = end == LoopEnd::Interrupted;
     let outcome = match &end {
         LoopEnd::Completed => "completed".to_owned(),
         LoopEnd::MissionEnded(reason) => format!("completed: mission over, {reason}"),
@@ -289,6 +316,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         report,
         run_dir,
         success,
+        interrupted,
         mission_figure: figure,
     })
 }

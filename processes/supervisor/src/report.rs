@@ -42,6 +42,12 @@ pub struct ExitRecord {
     pub reason: String,
     /// Seconds from the exit to the restarted process reporting ready, if it came back.
     pub recovered_after_s: Option<f64>,
+    /// How it came back: `standby` (a prepared standby was promoted) or `cold` (a new
+    /// process started from scratch).
+    pub restart: Option<String>,
+    /// The start-up time the restarted process itself reported (from exec, or from its
+    /// promotion, to ready), s.
+    pub startup_s: Option<f64>,
 }
 
 /// The whole run.

@@ -129,6 +129,7 @@ mod tests {
             window_s: 10.0,
             backoff_initial_ms: 100,
             backoff_max_ms: 350,
+            warm_standby: true,
         }
     }
 

@@ -58,8 +58,16 @@ pub struct Slot {
     rejected_before_incarnation: u64,
     /// Unplanned exits.
     pub exits: Vec<ExitRecord>,
-    /// Set when the watchdog killed it, to name the exit a hang.
-    pub killed_for_hang: bool,
+    /// Set when the watchdog killed it: why it counted as hung (names the exit).
+    pub killed_for_hang: Option<String>,
+    /// The prepared standby promoted on the next restart, if any.
+    pub standby: Option<ChildProcess>,
+    /// A standby died on its own: restarts of this slot are cold from then on.
+    pub standby_failed: bool,
+    /// CPU time of the current child when its silence passed one frame period (watchdog).
+    pub silence_cpu_ticks: Option<u64>,
+    /// Start-up time the current incarnation reported in its ready heartbeat, s.
+    pub last_startup_s: Option<f64>,
 }
 
 impl Slot {
@@ -85,7 +93,11 @@ impl Slot {
             rejected_samples: 0,
             rejected_before_incarnation: 0,
             exits: Vec::new(),
-            killed_for_hang: false,
+            killed_for_hang: None,
+            standby: None,
+            standby_failed: false,
+            silence_cpu_ticks: None,
+            last_startup_s: None,
         }
     }
 

@@ -76,8 +76,10 @@ impl<'a> ClampRamp<'a> {
 
     #[inline(always)]
     fn step(&mut self) {
-        self.u += self.du;
-        self.v += self.dv;
+        // Wrapping: the block loop steps once past its last pixel, where a grazing view's
+        // step (tens of thousands of texels per pixel) leaves i32; that value is never sampled.
+        self.u = self.u.wrapping_add(self.du);
+        self.v = self.v.wrapping_add(self.dv);
     }
 
     /// Bilinear sample, 0..=255.
@@ -278,5 +280,30 @@ impl Shader for FlatMaterial {
 impl Material for FlatMaterial {
     fn draw(&self, t: &mut Target<'_>, s: &Setup, _uv_area: f32) {
         s.fill(t, self);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression: the camera process panicked ("attempt to add with overflow", debug build)
+    /// on a one-pixel block seen at a grazing angle.
+    #[test]
+    fn a_clamped_ramp_steps_past_its_block_without_overflow() {
+        let texture = MipTexture::from_base(4, 4, vec![100; 16], false);
+        let block = Block {
+            iz: 1.0,
+            diz: 0.0,
+            u: 1.0,
+            du: 1.0e5,
+            v: 1.0,
+            dv: 1.0e5,
+            s: 0.0,
+            ds: 0.0,
+        };
+        let mut ramp = ClampRamp::new(texture.level(0), &block, 1).expect("inside");
+        assert!(ramp.sample() > 0);
+        ramp.step();
     }
 }

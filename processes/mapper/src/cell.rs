@@ -17,6 +17,9 @@ pub const HIGH_POINTS: usize = 6;
 /// Robot codes that have their own counter (codes 0..ROBOT_SLOTS).
 pub const ROBOT_SLOTS: usize = 4;
 
+/// The jumper's robot code (its clouds vote per cell).
+const JUMPER_CODE: u32 = 1;
+
 /// A world position in metres, single precision (as in the feature messages).
 pub type PointM = [f32; 3];
 
@@ -33,6 +36,8 @@ pub struct CellStats {
     pub measured_count: u32,
     /// Measured features higher than the traversable height.
     pub measured_high: u32,
+    /// Of them, the jumper's (whose clouds must also agree, see [`CellStats::vote`]).
+    pub jumper_measured_high: u32,
     /// Smallest measured height above ground, metres (valid if `measured_count > 0`).
     pub min_height_m: f32,
     /// Largest measured height above ground, metres (valid if `measured_count > 0`).
@@ -55,6 +60,14 @@ pub struct CellStats {
     pub provisional_count: u32,
     /// Of those, the ones above the traversable height.
     pub provisional_high: u32,
+    /// Jumper clouds that judged a feature in this cell (saturating).
+    pub judged_clouds: u16,
+    /// Of them, the clouds that found a feature here high.
+    pub high_clouds: u16,
+    /// Sequence number of the last cloud that judged a feature here.
+    pub last_cloud: u32,
+    /// That cloud already found a feature here high.
+    pub last_cloud_high: bool,
 }
 
 impl Default for CellStats {
@@ -65,6 +78,7 @@ impl Default for CellStats {
             observed_by: 0,
             measured_count: 0,
             measured_high: 0,
+            jumper_measured_high: 0,
             min_height_m: 0.0,
             max_height_m: 0.0,
             sum_height_m: 0.0,
@@ -76,6 +90,10 @@ impl Default for CellStats {
             high_len: 0,
             provisional_count: 0,
             provisional_high: 0,
+            judged_clouds: 0,
+            high_clouds: 0,
+            last_cloud: 0,
+            last_cloud_high: false,
         }
     }
 }
@@ -138,6 +156,9 @@ impl CellStats {
                 self.sum_height_m += f64::from(height);
                 if height > traversable_height_m {
                     self.measured_high = self.measured_high.saturating_add(1);
+                    if robot_code == JUMPER_CODE {
+                        self.jumper_measured_high = self.jumper_measured_high.saturating_add(1);
+                    }
                 }
                 let ground = [position_m[0], position_m[1], z - height];
                 insert_extreme(&mut self.low, &mut self.low_len, ground, |a, b| a < b);
@@ -154,6 +175,22 @@ impl CellStats {
         self.provisional_count = self.provisional_count.saturating_add(1);
         if is_high {
             self.provisional_high = self.provisional_high.saturating_add(1);
+        }
+    }
+
+    /// Records that cloud number `cloud` judged a feature in this cell, high or not: a cloud
+    /// counts once however many of its features fall here. A distorted cloud (a keyframe pair
+    /// with a wrong relative pose) reads bare ground as high everywhere it looks; clouds that
+    /// saw the same cell as ground outvote it.
+    pub fn vote(&mut self, cloud: u32, is_high: bool) {
+        if self.judged_clouds == 0 || cloud != self.last_cloud {
+            self.judged_clouds = self.judged_clouds.saturating_add(1);
+            self.last_cloud = cloud;
+            self.last_cloud_high = false;
+        }
+        if is_high && !self.last_cloud_high {
+            self.high_clouds = self.high_clouds.saturating_add(1);
+            self.last_cloud_high = true;
         }
     }
 
@@ -207,6 +244,18 @@ mod tests {
         assert_eq!(high, vec![99, 98, 97, 96, 95, 94]);
         assert_eq!(cell.count_by_robot[1], 100);
         assert_eq!(cell.observed_by, 1 << 1);
+    }
+
+    #[test]
+    fn each_cloud_votes_once_per_cell() {
+        let mut cell = CellStats::default();
+        cell.vote(7, true);
+        cell.vote(7, true);
+        cell.vote(7, false);
+        cell.vote(8, false);
+        cell.vote(9, false);
+        cell.vote(9, true);
+        assert_eq!((cell.judged_clouds, cell.high_clouds), (3, 2));
     }
 
     #[test]

@@ -53,6 +53,11 @@ pub struct MapperConfig {
     pub obstacle_min_fraction: f64,
     /// Judged features a cell needs before `obstacle_min_fraction` applies.
     pub fraction_min_features: u32,
+    /// Jumper clouds (keyframes) that must each find a feature of the cell high before the
+    /// jumper's high features count: one distorted cloud does not make a rock.
+    pub min_high_clouds: u16,
+    /// … and at least this fraction of the jumper clouds that judged a feature in the cell.
+    pub min_high_cloud_fraction: f64,
     /// Features a cell needs to count as observed (free).
     pub min_free_support: u32,
     /// Radius of the neighbourhood whose lowest observations define the local ground, metres.
@@ -92,6 +97,8 @@ impl Default for MapperConfig {
             min_obstacle_support: 3,
             obstacle_min_fraction: 0.1,
             fraction_min_features: 20,
+            min_high_clouds: 2,
+            min_high_cloud_fraction: 0.3,
             min_free_support: 1,
             ground_window_m: 2.0,
             inflation_radius_m: 1.0,
@@ -178,6 +185,13 @@ impl MapperConfig {
             u64::from(self.fraction_min_features),
             1,
             1_000_000,
+        )?;
+        check_u64("min_high_clouds", u64::from(self.min_high_clouds), 1, 1000)?;
+        check_f64(
+            "min_high_cloud_fraction",
+            self.min_high_cloud_fraction,
+            0.0,
+            1.0,
         )?;
         check_u64(
             "min_free_support",

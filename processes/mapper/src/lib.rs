@@ -9,9 +9,10 @@
 //! - [`ground`]: the local ground, a robust plane through the neighbourhood's lowest
 //!   observations, for features whose producer could not measure their height (NaN).
 //! - [`map`]: insertion, classification (obstacle = at least `min_obstacle_support` features
-//!   more than `traversable_height_m` above the local ground, and at least
-//!   `obstacle_min_fraction` of a well-observed cell's features), inflation ([`inflation`]) and
-//!   the diff of changed cells.
+//!   more than `traversable_height_m` above the local ground, at least
+//!   `obstacle_min_fraction` of a well-observed cell's features, and at least
+//!   `min_high_clouds` clouds finding it high), inflation ([`inflation`]) and the diff of
+//!   changed cells.
 //! - [`snapshot`]: save and restore the statistics; [`view`]: read-only access for plots.
 //!
 //! ```
@@ -22,12 +23,13 @@
 //! let config = MapperConfig::default();
 //! let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
 //! let mut map = FeatureMap::new(&config, geometry);
-//! // Three rover features 0.5 m above the ground in the cell at (1.2, 1.2).
+//! // Three rover features 0.5 m above the ground in the cell at (1.2, 1.2), in two keyframes.
 //! let rock = FeaturePoint {
 //!     position_m: [1.2, 1.2, 0.5],
 //!     height_above_ground_m: 0.5,
 //!     ..FeaturePoint::default()
 //! };
+//! map.insert_cloud(Robot::Rover, &[rock; 3]);
 //! map.insert_cloud(Robot::Rover, &[rock; 3]);
 //! map.update();
 //! let mut changes = Vec::new();

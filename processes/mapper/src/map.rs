@@ -90,6 +90,8 @@ struct Thresholds {
     max_depth_sigma_m: f32,
     jumper_height_sigma_factor: f32,
     rover_height_sigma_factor: f32,
+    min_high_clouds: u16,
+    min_high_cloud_fraction: f64,
     min_obstacle_support: u32,
     obstacle_min_fraction: f64,
     fraction_min_features: u32,
@@ -118,6 +120,8 @@ pub struct FeatureMap {
     changed: DirtySet,
     ground: GroundScratch,
     counters: MapCounters,
+    /// Number of the cloud being inserted (cells count each cloud's vote once).
+    cloud_sequence: u32,
 }
 
 impl FeatureMap {
@@ -142,6 +146,8 @@ impl FeatureMap {
                 max_depth_sigma_m: config.max_depth_sigma_m as f32,
                 jumper_height_sigma_factor: config.jumper_height_sigma_factor as f32,
                 rover_height_sigma_factor: config.rover_height_sigma_factor as f32,
+                min_high_clouds: config.min_high_clouds,
+                min_high_cloud_fraction: config.min_high_cloud_fraction,
                 min_obstacle_support: config.min_obstacle_support,
                 obstacle_min_fraction: config.obstacle_min_fraction,
                 fraction_min_features: config.fraction_min_features,
@@ -162,6 +168,7 @@ impl FeatureMap {
             changed: DirtySet::new(cells),
             ground: GroundScratch::with_capacity(window * LOW_POINTS),
             counters: MapCounters::default(),
+            cloud_sequence: 0,
         }
     }
 
@@ -195,6 +202,7 @@ impl FeatureMap {
         points: &[FeaturePoint],
     ) -> usize {
         let before = self.counters.accepted;
+        self.cloud_sequence = self.cloud_sequence.wrapping_add(1);
         for point in points {
             self.insert_point(robot, camera_m, point);
         }
@@ -239,6 +247,11 @@ impl FeatureMap {
             if above_m <= f64::from(t.max_feature_height_m) {
                 self.stats[index].add_provisional(above_m > f64::from(high_above_m));
             }
+        }
+        if robot == Robot::Jumper
+            && let Some(height) = height
+        {
+            self.stats[index].vote(self.cloud_sequence, height > high_above_m);
         }
         self.stats[index].add(point.position_m, height, robot.code(), high_above_m);
         self.touched.insert(index);
@@ -377,11 +390,22 @@ impl FeatureMap {
 
     fn classify(&mut self, index: usize) -> Base {
         let stats = self.stats[index];
-        let mut high = stats.measured_high;
+        // The jumper's high features count only where enough of its clouds agree: a distorted
+        // cloud (a keyframe pair with a wrong relative pose) reads bare ground as high
+        // wherever it looks. Features of unknown height are judged against a ground fitted to
+        // the neighbourhood instead and cast no vote.
+        let t = self.thresholds;
+        let jumper_clouds_agree = stats.high_clouds >= t.min_high_clouds
+            && f64::from(stats.high_clouds)
+                >= t.min_high_cloud_fraction * f64::from(stats.judged_clouds);
+        let mut high = if jumper_clouds_agree {
+            stats.measured_high
+        } else {
+            stats.measured_high - stats.jumper_measured_high.min(stats.measured_high)
+        };
         if stats.high_len > 0 {
             high = high.saturating_add(self.estimated_high(index, &stats));
         }
-        let t = self.thresholds;
         let fraction_ok = stats
             .high_fraction(t.fraction_min_features)
             .is_none_or(|fraction| fraction >= t.obstacle_min_fraction);

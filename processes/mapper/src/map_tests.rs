@@ -53,6 +53,12 @@ fn rock_on_slope(height_m: f32, measured: bool) -> Vec<FeaturePoint> {
     points
 }
 
+/// Inserts `cloud` as two keyframes that saw the same features (a rock needs two clouds).
+fn seen_twice(map: &mut FeatureMap, robot: Robot, cloud: &[FeaturePoint]) {
+    map.insert_cloud(robot, cloud);
+    map.insert_cloud(robot, cloud);
+}
+
 fn class_at(map: &FeatureMap, x_m: f64, y_m: f64) -> CellClass {
     let (x, y) = map.geometry().cell_of(x_m, y_m).expect("inside");
     map.cell_state(x, y).expect("inside").class
@@ -95,7 +101,7 @@ fn assert_rock_with_ring(map: &FeatureMap) {
 #[test]
 fn rock_on_slope_without_measured_heights_is_an_obstacle_with_a_ring() {
     let mut map = new_map();
-    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, false));
+    seen_twice(&mut map, Robot::Jumper, &rock_on_slope(0.6, false));
     map.update();
     assert_rock_with_ring(&map);
 }
@@ -103,7 +109,7 @@ fn rock_on_slope_without_measured_heights_is_an_obstacle_with_a_ring() {
 #[test]
 fn rock_on_slope_with_measured_heights_is_an_obstacle_with_a_ring() {
     let mut map = new_map();
-    map.insert_cloud(Robot::Rover, &rock_on_slope(0.6, true));
+    seen_twice(&mut map, Robot::Rover, &rock_on_slope(0.6, true));
     map.update();
     assert_rock_with_ring(&map);
 }
@@ -126,7 +132,7 @@ fn a_per_frame_cell_limit_only_delays_the_same_map() {
     };
     let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
     let mut map = FeatureMap::new(&config, geometry);
-    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, false));
+    seen_twice(&mut map, Robot::Jumper, &rock_on_slope(0.6, false));
     let mut frames = 0;
     loop {
         map.update();
@@ -287,7 +293,7 @@ fn only_changed_cells_are_published() {
     assert_eq!(map.collect_changes(&mut changes), 0);
 
     // A rock appears: its 4 cells and the inflation ring around them, nothing else.
-    map.insert_cloud(Robot::Rover, &rock_on_slope(0.6, true));
+    seen_twice(&mut map, Robot::Rover, &rock_on_slope(0.6, true));
     map.update();
     map.collect_changes(&mut changes);
     // Rock cells 22..=23; the 1 m ring reaches 2 cells straight, 1 diagonal: a 6 × 6 square
@@ -434,4 +440,26 @@ fn timing_of_a_dense_cloud() {
         start.elapsed(),
         full_map.memory_bytes()
     );
+}
+
+#[test]
+fn one_cloud_alone_or_outvoted_makes_no_rock() {
+    // A single keyframe that reads the rock high: not enough.
+    let mut map = new_map();
+    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, true));
+    map.update();
+    assert_ne!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    // Two distorted clouds read bare ground high, six good ones saw it as ground.
+    let mut map = new_map();
+    for _ in 0..6 {
+        map.insert_cloud(Robot::Jumper, &rock_on_slope(0.0, true));
+    }
+    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, true));
+    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, true));
+    map.update();
+    assert_ne!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    // A third read of the rock tips the vote: 3 of 9 clouds.
+    map.insert_cloud(Robot::Jumper, &rock_on_slope(0.6, true));
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
 }

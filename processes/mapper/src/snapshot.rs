@@ -180,6 +180,8 @@ mod tests {
                 });
             }
         }
+        // Two keyframes see the rock (one cloud alone never makes an obstacle).
+        map.insert_cloud(Robot::Jumper, &cloud);
         map.insert_cloud(Robot::Jumper, &cloud);
         map.update();
         map

@@ -111,7 +111,9 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     assert_eq!((header.width_cells, header.height_cells), (128, 128));
     assert_eq!((header.origin_x_m, header.cell_size_m), (-32.0, 0.5));
 
-    // Frame 1: a rover cloud with a rock, plus a cloud that claims the wrong robot.
+    // Frame 1: two rover keyframes with a rock (one cloud alone makes no obstacle), plus a
+    // cloud that claims the wrong robot.
+    send(&mut rover, Robot::Rover.code(), &rover_cloud());
     send(&mut rover, Robot::Rover.code(), &rover_cloud());
     send(&mut rover, Robot::Jumper.code(), &rover_cloud());
     mapper.step(&context, &tick(1)).expect("step");

@@ -8,7 +8,7 @@
 use hopnav_config::{ConfigError, HopnavConfig, MissionMode, parse_section};
 use hopnav_ipc::messages::{
     CellClass, CellUpdate, DriveCommand, DriveDirection, FrameTick, JumpRequest, MapHeader,
-    MissionState, PathHeader, PathPoint, PoseEstimate,
+    MissionState, PathHeader, PathPoint, PoseEstimate, Robot,
 };
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
@@ -16,7 +16,8 @@ use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscrib
 
 use crate::grid::{Cell, CellChange, CellState};
 use crate::mission::{
-    Decision, MapGeometry, MissionStatus, NavigationError, Navigator, NavigatorConfig, RoverPose,
+    Decision, MapChange, MapGeometry, MissionStatus, NavigationError, Navigator, NavigatorConfig,
+    RoverPose,
 };
 
 /// Why the planner process failed.
@@ -76,7 +77,7 @@ pub struct PlannerProcess {
     navigator: Option<Navigator>,
     geometry: Option<MapGeometry>,
     /// Changes that arrived before the navigator existed (no rover pose yet).
-    early_changes: Vec<CellChange>,
+    early_changes: Vec<MapChange>,
     map_updates: SliceSubscriber<MapHeader>,
     map_snapshots: SliceSubscriber<MapHeader>,
     rover_poses: Subscriber<PoseEstimate>,
@@ -93,17 +94,21 @@ pub struct PlannerProcess {
 /// needs its head).
 const MAX_PATH_POINTS: usize = 4096;
 
-fn cell_change(update: &CellUpdate) -> Option<CellChange> {
-    let state = match CellClass::from_code(update.class)? {
+/// The planner's view of a mapper cell. A rock the rover never saw, and the lethal margin
+/// around any rock, are doubtful obstacles (see [`MapChange`]).
+fn cell_change(update: &CellUpdate) -> Option<MapChange> {
+    let class = CellClass::from_code(update.class)?;
+    let state = match class {
         CellClass::Unknown => CellState::Unknown,
         CellClass::Free | CellClass::Inflated => CellState::Free,
         CellClass::Obstacle | CellClass::Lethal => CellState::Obstacle,
     };
-    Some(CellChange::new(
-        Cell::new(update.x, update.y),
-        state,
-        update.extra_cost,
-    ))
+    let seen_by_rover = update.observed_by & (1 << Robot::Rover.code()) != 0;
+    let doubtful = class == CellClass::Lethal || (class == CellClass::Obstacle && !seen_by_rover);
+    Some(MapChange {
+        change: CellChange::new(Cell::new(update.x, update.y), state, update.extra_cost),
+        doubtful,
+    })
 }
 
 fn mission_state(decision: Option<&Decision>) -> MissionState {

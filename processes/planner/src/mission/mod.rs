@@ -28,5 +28,7 @@ mod scout;
 pub use bumper::{Bumper, BumperEvent, RoverPose};
 pub use config::{NavigatorConfig, ScoutConfig};
 pub use geometry::{GeometryError, MapGeometry};
-pub use navigator::{Decision, MissionStatus, NavigationError, Navigator, NavigatorCounters};
+pub use navigator::{
+    Decision, MapChange, MissionStatus, NavigationError, Navigator, NavigatorCounters,
+};
 pub use scout::{ScoutDecision, find_region_of_interest};

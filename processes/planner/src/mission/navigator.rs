@@ -74,6 +74,29 @@ pub struct NavigatorCounters {
     pub blocked_marks: u32,
     /// Times the bump marks were forgotten because they alone cut the rover off the goal.
     pub bump_marks_forgotten: u32,
+    /// Doubtful obstacles (see [`MapChange`]) cut the rover off the goal once, and are planned
+    /// through at a high cost since.
+    pub doubts_relaxed: bool,
+}
+
+/// A map change as the mapper reports it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapChange {
+    /// The cell's new state.
+    pub change: CellChange,
+    /// An obstacle the rover has not confirmed: a rock seen only from the jumper's distant
+    /// viewpoint, or the lethal margin around a rock. When such cells alone cut the rover off
+    /// the goal, the navigator plans through them at a high cost and lets the rover look.
+    pub doubtful: bool,
+}
+
+impl From<CellChange> for MapChange {
+    fn from(change: CellChange) -> Self {
+        Self {
+            change,
+            doubtful: false,
+        }
+    }
 }
 
 /// A cell the rover bumped into, and what the mapper says of it meanwhile.
@@ -85,6 +108,10 @@ struct BumpedCell {
 
 /// Extra cost of a goal cell the map calls an obstacle (see `keep_goal_open`), planner units.
 const GOAL_IN_OBSTACLE_EXTRA_COST: u32 = 5000;
+
+/// Cost of moving into a doubtful obstacle cell once the goal is unreachable without them,
+/// planner units (1000 = one cell): the rover detours up to this far to avoid one.
+const DOUBTFUL_OBSTACLE_COST: u32 = 8000;
 
 /// Bumped cells remembered (a bounded list: a mission bumps a handful).
 const MAX_BUMPED_CELLS: usize = 256;
@@ -106,6 +133,11 @@ pub struct Navigator {
     /// Cells the rover bumped into: obstacles whatever the mapper says later, unless they
     /// alone cut the rover off the goal.
     bumped: Vec<BumpedCell>,
+    /// Per cell (row-major): the mapper's obstacle there is doubtful (see [`MapChange`]).
+    doubtful: Vec<bool>,
+    /// Doubtful obstacles are planned through at [`DOUBTFUL_OBSTACLE_COST`]: set once they
+    /// alone made the goal unreachable, for the rest of the mission.
+    doubts_relaxed: bool,
 }
 
 impl Navigator {
@@ -146,6 +178,8 @@ impl Navigator {
             bumper,
             driving: false,
             bumped: Vec::new(),
+            doubtful: vec![false; cell_count],
+            doubts_relaxed: false,
         })
     }
 
@@ -171,20 +205,77 @@ impl Navigator {
 
     /// Queues map changes for the next [`step`](Self::step). Cells outside the grid are
     /// refused (the count of refused changes is returned) and never reach the planner.
-    pub fn queue_changes(&mut self, changes: impl IntoIterator<Item = CellChange>) -> usize {
+    pub fn queue_changes(
+        &mut self,
+        changes: impl IntoIterator<Item = impl Into<MapChange>>,
+    ) -> usize {
         let mut refused = 0;
         for change in changes {
+            let MapChange { change, doubtful } = change.into();
+            let Some(index) = self.cell_index(change.cell) else {
+                refused += 1;
+                continue;
+            };
+            self.doubtful[index] = doubtful && change.state == CellState::Obstacle;
+            let change = self.relax_if_doubtful(change);
             if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
                 bumped.mapper = change;
                 continue;
             }
-            if self.planner.grid().contains(change.cell) {
-                self.pending.push(self.keep_goal_open(change));
-            } else {
-                refused += 1;
-            }
+            self.pending.push(self.keep_goal_open(change));
         }
         refused
+    }
+
+    fn cell_index(&self, cell: Cell) -> Option<usize> {
+        self.planner
+            .grid()
+            .contains(cell)
+            .then(|| cell.y as usize * self.geometry.width_cells() as usize + cell.x as usize)
+    }
+
+    /// A doubtful obstacle as a costly free cell, once doubts are relaxed.
+    fn relax_if_doubtful(&self, change: CellChange) -> CellChange {
+        let doubtful = self
+            .cell_index(change.cell)
+            .is_some_and(|index| self.doubtful[index]);
+        if self.doubts_relaxed && doubtful {
+            CellChange::new(change.cell, CellState::Free, DOUBTFUL_OBSTACLE_COST)
+        } else {
+            change
+        }
+    }
+
+    /// When the goal is unreachable, doubtful obstacles may be what cuts the rover off: plan
+    /// through them at a high cost from now on (the rover's own stereo confirms real rocks as
+    /// it comes near, and the bumper stops it at one the map missed). True when the search is
+    /// worth repeating.
+    fn relax_doubts(&mut self) -> Result<bool, NavigationError> {
+        if self.doubts_relaxed || !self.doubtful.contains(&true) {
+            return Ok(false);
+        }
+        self.doubts_relaxed = true;
+        let width = self.geometry.width_cells() as usize;
+        let relaxed: Vec<CellChange> = self
+            .doubtful
+            .iter()
+            .enumerate()
+            .filter(|(_, doubtful)| **doubtful)
+            .map(|(index, _)| {
+                let cell = Cell::new((index % width) as u32, (index / width) as u32);
+                self.keep_goal_open(self.relax_if_doubtful(CellChange::new(
+                    cell,
+                    CellState::Obstacle,
+                    0,
+                )))
+            })
+            .filter(|change| !self.bumped.iter().any(|bumped| bumped.cell == change.cell))
+            .collect();
+        self.planner
+            .update_cells(&relaxed)
+            .map_err(NavigationError::Plan)?;
+        self.counters.doubts_relaxed = true;
+        Ok(true)
     }
 
     /// The goal cell stays traversable, at the highest cost, whatever the map says: a false
@@ -249,6 +340,9 @@ impl Navigator {
         }
         let mut search = self.planner.compute_shortest_path();
         if search == Err(PlanError::Unreachable) && self.forget_bump_marks()? {
+            search = self.planner.compute_shortest_path();
+        }
+        if search == Err(PlanError::Unreachable) && self.relax_doubts()? {
             search = self.planner.compute_shortest_path();
         }
         match search {
@@ -587,6 +681,46 @@ mod tests {
         let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 40.0, 2000);
         assert_eq!(decision.status, MissionStatus::Unreachable);
         assert_eq!(decision.speed_mps, 0.0);
+    }
+
+    #[test]
+    fn doubtful_obstacles_that_alone_cut_off_the_goal_are_driven_through_at_a_cost() {
+        let (geometry, truth) = walled_world();
+        let mut config = NavigatorConfig::default();
+        config.scout.enabled = false;
+        let mut navigator = Navigator::new(geometry, [2.0, 5.0], [28.0, 5.0], config).unwrap();
+        // The rover's rocks close the wall below y = 17 m; the jumper's, above it.
+        let confirmed = (0..truth.cell_count()).map(|index| {
+            let cell = truth.cell_at(index).unwrap();
+            MapChange::from(CellChange::new(cell, truth.state(cell).unwrap(), 0))
+        });
+        navigator.queue_changes(confirmed);
+        let doubtful = (34..40).map(|y| MapChange {
+            change: CellChange::new(Cell::new(30, y), CellState::Obstacle, 0),
+            doubtful: true,
+        });
+        navigator.queue_changes(doubtful);
+        let decision = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
+        assert_eq!(decision.status, MissionStatus::Driving);
+        assert!(navigator.counters().doubts_relaxed);
+        assert!(
+            navigator
+                .path()
+                .iter()
+                .any(|cell| cell.x == 30 && cell.y >= 34)
+        );
+        // The rover's stereo confirms one of them: the path avoids it from then on.
+        let confirmed_rock = navigator
+            .path()
+            .iter()
+            .copied()
+            .find(|cell| cell.x == 30)
+            .unwrap();
+        navigator.queue_changes([CellChange::new(confirmed_rock, CellState::Obstacle, 0)]);
+        navigator.step(at([2.0, 5.0]), None, 0.1).unwrap();
+        assert!(!navigator.path().contains(&confirmed_rock));
+        let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 0.0, 4000);
+        assert_eq!(decision.status, MissionStatus::GoalReached);
     }
 
     #[test]

@@ -101,6 +101,12 @@ pub struct JumperVo {
     commanded_velocity_mps: Vector3<f64>,
     /// Touchdown, once landed.
     touchdown: Option<Touchdown>,
+    /// Consecutive well-tracked frames with a still image while the fit still climbs: a hop
+    /// that never left the ground (the jumper wedged against a rock, or on its side).
+    still_climbing_frames: u32,
+    /// Log-likelihood ratio, over the altimeter samples since launch, of "the commanded hop
+    /// flies" against "the body stayed at its launch altitude".
+    launch_llr: f64,
 }
 
 /// Where and how fast the jumper came down; the landed position slides from there.
@@ -195,6 +201,8 @@ impl JumperVo {
             pending_launch_t_s: None,
             commanded_velocity_mps: Vector3::zeros(),
             touchdown: None,
+            still_climbing_frames: 0,
+            launch_llr: 0.0,
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -214,6 +222,8 @@ impl JumperVo {
         self.phase = Phase::WaitingFirstFrame;
         self.pending_launch_t_s = None;
         self.touchdown = None;
+        self.still_climbing_frames = 0;
+        self.launch_llr = 0.0;
         self.commanded_velocity_mps = Vector3::zeros();
         self.launch_world_from_body = world_from_body;
         self.last_world_from_body = world_from_body;
@@ -308,6 +318,7 @@ impl JumperVo {
         if self.phase == Phase::Flight {
             if let Some(z) = altitude {
                 self.fit.add_altitude(tau, z, self.config.altimeter_sigma_m);
+                self.weigh_launch(tau, z);
             }
             if self
                 .descent_height_m(tau)
@@ -319,6 +330,11 @@ impl JumperVo {
         let tracked = self.tracks.track(&input.image).unwrap_or(0);
         if self.phase == Phase::Landed {
             return self.landed_frame(&input, tau, tracked);
+        }
+        if self.launch_failed(tau, tracked) {
+            // Without this the ballistic model flies the commanded hop on (metres of error).
+            let launch_position_m = self.fit.launch_position_m().coords;
+            return self.land_at(&input, launch_position_m, Vector3::zeros(), tau, tau);
         }
         match self.estimate(tau, tracked, altitude) {
             Some(est) => {
@@ -660,8 +676,43 @@ impl JumperVo {
         out
     }
 
+    /// Adds an altimeter sample to [`Self::launch_llr`], while the commanded arc climbs.
+    fn weigh_launch(&mut self, tau: f64, altitude_m: f64) {
+        let v = self.commanded_velocity_mps;
+        let climbed_m = v.z * tau - 0.5 * self.config.gravity_mps2 * tau * tau;
+        if v.z <= 0.0 || climbed_m <= 0.0 || tau * self.config.gravity_mps2 > v.z {
+            return;
+        }
+        let z0 = self.fit.launch_position_m().z;
+        let sigma = self.config.altimeter_sigma_m.max(1e-3);
+        let stayed = altitude_m - z0;
+        let flew = altitude_m - z0 - climbed_m;
+        self.launch_llr += (stayed * stayed - flew * flew) / (2.0 * sigma * sigma);
+    }
+
+    /// True once the altimeter says the body stayed at its launch altitude (odds of
+    /// e^[`FAILED_LAUNCH_LLR`] against the commanded climb), or the image has stayed still for
+    /// [`FAILED_LAUNCH_STILL_FRAMES`] well-tracked frames while the fit still climbs. A real
+    /// flight is never still (at 4 m/s and 10 m up the ground moves ~15 px per frame), and a
+    /// still image on the way down is a landing. Near the ground a wedged body's small rocking
+    /// moves the image more than that, hence the altimeter.
+    fn launch_failed(&mut self, tau: f64, tracked: usize) -> bool {
+        let still = tracked >= self.config.min_tracked_features
+            && self.tracks.median_flow_norm_px() < STILL_FLOW_PX;
+        let climbing = self
+            .fit
+            .solve()
+            .is_some_and(|v0| self.fit.velocity(&v0, tau).z > 0.0);
+        if still && climbing {
+            self.still_climbing_frames += 1;
+        } else {
+            self.still_climbing_frames = 0;
+        }
+        self.still_climbing_frames >= FAILED_LAUNCH_STILL_FRAMES
+            || self.launch_llr < -FAILED_LAUNCH_LLR
+    }
+
     fn land(&mut self, input: &FrameInput<'_>, touchdown_tau: f64, tau: f64) -> VoOutput {
-        self.phase = Phase::Landed;
         let position = match self.config.scale_method {
             ScaleMethod::Ballistic => self
                 .fit
@@ -678,6 +729,19 @@ impl JumperVo {
                 .unwrap_or(self.velocity_mps),
             ScaleMethod::PaperEq4 => self.velocity_mps,
         };
+        self.land_at(input, position, horizontal_velocity_mps, touchdown_tau, tau)
+    }
+
+    /// Lands at `position` with `horizontal_velocity_mps` at `touchdown_tau`, now `tau`.
+    fn land_at(
+        &mut self,
+        input: &FrameInput<'_>,
+        position: Vector3<f64>,
+        horizontal_velocity_mps: Vector3<f64>,
+        touchdown_tau: f64,
+        tau: f64,
+    ) -> VoOutput {
+        self.phase = Phase::Landed;
         let mut horizontal_velocity_mps =
             Vector3::new(horizontal_velocity_mps.x, horizontal_velocity_mps.y, 0.0);
         let max = self.config.max_speed_mps;
@@ -801,6 +865,13 @@ const LANDING_PRIOR_WEIGHT: f64 = 4.0;
 
 /// Median track displacement below which the image counts as still, pixels per frame.
 const STILL_FLOW_PX: f32 = 0.3;
+
+/// Still frames while climbing after which a hop counts as never having left the ground.
+const FAILED_LAUNCH_STILL_FRAMES: u32 = 3;
+
+/// Log-odds against the commanded climb at which a hop counts as never having left the ground
+/// (e^12: a real climb of a few metres reaches the opposite sign within a second).
+const FAILED_LAUNCH_LLR: f64 = 12.0;
 
 #[derive(Debug, Clone, Copy)]
 struct Estimate {

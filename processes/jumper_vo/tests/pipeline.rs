@@ -256,3 +256,70 @@ fn landed_body_slides_along_the_touchdown_velocity_then_rests() {
         .collect();
     assert!(held.iter().all(|p| (p - held[0]).norm() < 1e-9));
 }
+
+/// A hop commanded but never flown (the jumper wedged against a rock): the camera sees the
+/// same ground frame after frame. The VO must land where it launched, not fly the commanded
+/// ballistic arc.
+#[test]
+fn a_launch_that_never_leaves_the_ground_lands_where_it_started() {
+    let sim = small_sim(2, Vec::new());
+    let config = sim.robot_config(&JumperVoConfig::default());
+    let launch = sim.truth_world_from_body[0];
+    let mut vo = JumperVo::new(config, sim.camera, launch).unwrap();
+    let outputs: Vec<_> = (0..30)
+        .map(|k| {
+            vo.process_frame(FrameInput {
+                frame_index: k,
+                t_s: sim.t_s[0] + 0.1 * k as f64,
+                image: ImageView::packed(&sim.images[0], sim.width_px, sim.height_px).unwrap(),
+                altimeter_m: Some(sim.altimeter_m[0]),
+            })
+        })
+        .collect();
+    let first_landed = outputs
+        .iter()
+        .position(|o| o.status == VoStatus::Landed)
+        .expect("never landed");
+    assert!(first_landed <= 6, "landed only at frame {first_landed}");
+    // Until then the commanded arc is flown; from then on the body rests at the launch.
+    for o in &outputs[first_landed..] {
+        let err = (o.world_from_body.translation.vector - launch.translation.vector).xy();
+        assert!(
+            err.norm() < 0.1,
+            "frame {} off by {} m",
+            o.frame_index,
+            err.norm()
+        );
+    }
+}
+
+/// The same, with a wedged body that rocks (the image jumps back and forth, never still):
+/// the altimeter, which stays at the launch altitude within its noise, tells.
+#[test]
+fn a_rocking_launch_that_never_climbs_is_told_by_the_altimeter() {
+    let sim = small_sim(2, Vec::new());
+    let config = sim.robot_config(&JumperVoConfig::default());
+    let launch = sim.truth_world_from_body[0];
+    let mut vo = JumperVo::new(config.clone(), sim.camera, launch).unwrap();
+    let noise_m = [0.8, -1.1, 0.3, -0.4, 1.2, -0.9, 0.1, 0.6, -1.3, 0.5];
+    let outputs: Vec<_> = (0..30)
+        .map(|k| {
+            vo.process_frame(FrameInput {
+                frame_index: k as u64,
+                t_s: sim.t_s[0] + 0.1 * k as f64,
+                image: ImageView::packed(&sim.images[k % 2], sim.width_px, sim.height_px).unwrap(),
+                altimeter_m: Some(sim.altimeter_m[0] + config.altimeter_sigma_m * noise_m[k % 10]),
+            })
+        })
+        .collect();
+    let first_landed = outputs
+        .iter()
+        .position(|o| o.status == VoStatus::Landed)
+        .expect("never landed");
+    assert!(first_landed <= 12, "landed only at frame {first_landed}");
+    let last = outputs[outputs.len() - 1]
+        .world_from_body
+        .translation
+        .vector;
+    assert!((last - launch.translation.vector).xy().norm() < 0.1);
+}

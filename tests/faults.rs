@@ -148,8 +148,7 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
 /// (jumper_vo twice: in flight, then at rest): each restart is a promotion of a prepared
 /// standby, the VO processes continue from their last pose (not from the start point), the
 /// mapper from its snapshot, the planner replans, and the rover still reaches the goal as
-/// closely as without faults. (A physics restart starts the simulation over: its state is
-/// not recovered yet.)
+/// closely as without faults. (physics is killed in its own test below.)
 #[test]
 fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
     let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
@@ -198,6 +197,47 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
         }
     }
     assert_eq!(process(&report, "physics")["restarts"], 0);
+    assert_eq!(report["leftover_files"], 0);
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+}
+
+/// The default mission in lockstep with physics killed during the jumper's first hop: the
+/// restarted physics continues the simulation from the last state it published (relayed by
+/// the supervisor) instead of starting over at t = 0, so after 120 frames the simulation is at
+/// 12 s (a restart from scratch would end at 8 s, the 80 frames after the kill).
+#[test]
+fn a_killed_physics_resumes_its_simulation_instead_of_starting_over() {
+    const FRAMES: u64 = 120;
+    const KILL_FRAME: u64 = 40;
+    let (out, run) = (out_dir("physics-kill"), run_id("physics-kill"));
+    let kill = format!("kill:physics@f{KILL_FRAME}");
+    let frames = FRAMES.to_string();
+    let output = launch(
+        &out,
+        &run,
+        &["--lockstep", "--frames", &frames, "--fault", &kill],
+    );
+    let report = report(&out, &run);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{report:#}\n{stderr}");
+    let physics = process(&report, "physics");
+    assert_eq!(physics["restarts"], 1, "{physics}\n{stderr}");
+    for exit in physics["exits"].as_array().unwrap() {
+        assert_eq!(exit["reason"], "killed by signal 9", "{exit}");
+        assert!(exit["recovered_after_s"].as_f64().is_some(), "{exit}");
+    }
+    // The last body states' sim time: every frame simulated once, none lost, none repeated.
+    let mission_time_s = report["mission"]["mission_time_s"].as_f64().unwrap();
+    assert!(
+        (mission_time_s - FRAMES as f64 * 0.1).abs() < 1e-6,
+        "sim time at the end {mission_time_s} s\n{:#}",
+        report["mission"]
+    );
+    assert!(
+        stderr.contains(&format!("physics: resumed at frame {KILL_FRAME} ")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("starts over"), "{stderr}");
     assert_eq!(report["leftover_files"], 0);
     assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }

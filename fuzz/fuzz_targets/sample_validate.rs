@@ -10,7 +10,7 @@ use std::mem::{MaybeUninit, size_of};
 use hopnav_ipc::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, DriveCommand,
     FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader, ImuSample, JumpRequest, MapHeader,
-    PathHeader, PathPoint, PoseEstimate,
+    PathHeader, PathPoint, PhysicsState, PoseEstimate,
 };
 use hopnav_ipc::validate::{Message, SequenceGuard, SliceHeader};
 use libfuzzer_sys::fuzz_target;
@@ -43,6 +43,7 @@ plain_old_data!(
     DriveCommand,
     JumpRequest,
     HopLaunch,
+    PhysicsState,
     Control,
     ImageHeader,
     CloudHeader,
@@ -132,6 +133,7 @@ fuzz_target!(|data: &[u8]| {
                 assert_eq!(header.point_count as usize, points.len());
             }
         }
+        14 => message::<PhysicsState>(bytes),
         _ => {
             // A sequence of (origin, sequence) pairs through a small guard.
             let (capacity, rest) = rest_u8(bytes);

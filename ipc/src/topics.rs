@@ -90,6 +90,9 @@ pub const PATH: TopicSpec = TopicSpec::fixed("hopnav/planner/path", 1, 2);
 pub const DRIVE_COMMAND: TopicSpec = TopicSpec::fixed("hopnav/planner/drive", 1, 4);
 /// planner → physics: jump request.
 pub const JUMP_REQUEST: TopicSpec = TopicSpec::fixed("hopnav/planner/jump", 1, 4);
+/// physics → its own restart: both bodies and the bookkeeping behind them (hop cycle, rover
+/// controller, sensor noise), every frame.
+pub const PHYSICS_STATE: TopicSpec = TopicSpec::fixed("hopnav/physics/state", 1, 4);
 /// physics → jumper VO: a hop was launched (commanded attitude and velocity).
 pub const HOP_LAUNCH: TopicSpec = TopicSpec::fixed("hopnav/physics/hop_launch", 1, 4);
 /// supervisor → a restarted jumper_vo: the last pose the jumper VO published. A publisher's
@@ -102,6 +105,8 @@ pub const RESUME_HOP_LAUNCH: TopicSpec =
     TopicSpec::fixed("hopnav/resume/jumper_vo/hop_launch", 1, 2);
 /// supervisor → a restarted rover_vo: the last pose the rover VO published.
 pub const RESUME_ROVER_POSE: TopicSpec = TopicSpec::fixed("hopnav/resume/rover_vo/pose", 1, 2);
+/// supervisor → a restarted physics: the last [`PHYSICS_STATE`] sample physics published.
+pub const RESUME_PHYSICS_STATE: TopicSpec = TopicSpec::fixed("hopnav/resume/physics/state", 1, 2);
 /// supervisor → all: launch-wide control.
 pub const CONTROL: TopicSpec = TopicSpec::fixed("hopnav/control", 1, 4);
 
@@ -133,6 +138,8 @@ mod tests {
             &RESUME_JUMPER_POSE,
             &RESUME_HOP_LAUNCH,
             &RESUME_ROVER_POSE,
+            &PHYSICS_STATE,
+            &RESUME_PHYSICS_STATE,
         ];
         let mut names: Vec<_> = all.iter().map(|spec| spec.name.clone()).collect();
         names.sort();

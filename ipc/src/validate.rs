@@ -7,8 +7,8 @@
 use crate::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, ControlKind,
     DriveCommand, DriveDirection, FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader,
-    ImuSample, JumpRequest, MapHeader, MissionState, PathHeader, PathPoint, PixelFormat,
-    PoseEstimate, ProcessState, Robot, SampleStamp,
+    ImuSample, JumpRequest, MapHeader, MissionState, PathHeader, PathPoint, PhysicsState,
+    PixelFormat, PoseEstimate, ProcessState, Robot, SampleStamp,
 };
 
 /// Why a sample was rejected.
@@ -175,6 +175,87 @@ stamped!(HopLaunch, |launch| {
         return Err(Rejection::NonFinite("world_from_body"));
     }
     finite("velocity_mps", &launch.velocity_mps)
+});
+stamped!(PhysicsState, |state| {
+    for body in [&state.jumper_body, &state.rover_body] {
+        if !body.world_from_body.is_valid() {
+            return Err(Rejection::NonFinite("world_from_body"));
+        }
+        finite("linear_velocity_mps", &body.linear_velocity_mps)?;
+        finite("angular_velocity_radps", &body.angular_velocity_radps)?;
+    }
+    let jumper = &state.jumper;
+    known(
+        "jumper.phase",
+        jumper.phase,
+        crate::messages::HopPhase::from_code,
+    )?;
+    finite(
+        "jumper",
+        &[
+            jumper.since_landing_s,
+            jumper.yaw_rad,
+            jumper.launch_speed_mps,
+            jumper.launch_angle_rad,
+            jumper.heading_rad,
+            jumper.apex_height_m,
+            jumper.flight_time_s,
+        ],
+    )?;
+    finite("jumper.pending_target_m", &jumper.pending_target_m)?;
+    finite("jumper.hop_target_m", &jumper.hop_target_m)?;
+    finite("jumper.launch_position_m", &jumper.launch_position_m)?;
+    finite("jumper.landing_position_m", &jumper.landing_position_m)?;
+    let rover = &state.rover;
+    known(
+        "rover.blocked",
+        rover.blocked,
+        crate::messages::BlockCode::from_code,
+    )?;
+    finite(
+        "rover",
+        &[
+            rover.yaw_rad,
+            rover.forward_speed_mps,
+            rover.yaw_rate_radps,
+            rover.command_speed_mps,
+        ],
+    )?;
+    finite("rover.xy_m", &rover.xy_m)?;
+    finite("rover.steer_angles_rad", &rover.steer_angles_rad)?;
+    finite("rover.rock_contact", &rover.rock_contact)?;
+    finite("rover.command_waypoint_m", &rover.command_waypoint_m)?;
+    finite(
+        "noise",
+        &[
+            state.altimeter_noise.spare,
+            state.imu_noise.spare,
+            state.imu_yaw_error_rad,
+        ],
+    )?;
+    let flags = [
+        state.has_jump_request,
+        state.altimeter_noise.has_spare,
+        state.imu_noise.has_spare,
+        jumper.airborne,
+        jumper.has_pending_target,
+        jumper.hop_has_target,
+        jumper.has_landed,
+        jumper.clamped,
+        rover.has_command,
+        rover.command_hold,
+        rover.command_reverse,
+        rover.arrived,
+        rover.turning,
+        rover.in_rock_contact,
+    ];
+    if flags.iter().any(|flag| *flag > 1) {
+        return Err(Rejection::UnknownCode {
+            field: "flag",
+            code: flags.iter().copied().max().unwrap_or(0),
+        });
+    }
+    Ok(())
 });
 stamped!(Control, |control| {
     known("kind", control.kind, ControlKind::from_code)
@@ -440,6 +521,36 @@ mod tests {
         assert_eq!(pose.validate(), Ok(()));
         pose.world_from_body.orientation_xyzw = [0.0, 0.0, 0.0, 2.0];
         assert!(pose.validate().is_err());
+    }
+
+    #[test]
+    fn physics_state_rejects_bad_phase_flags_and_nan() {
+        let state = PhysicsState::default();
+        assert_eq!(state.validate(), Ok(()));
+        let mut bad = state;
+        bad.jumper.phase = 7;
+        assert!(matches!(
+            bad.validate(),
+            Err(Rejection::UnknownCode {
+                field: "jumper.phase",
+                ..
+            })
+        ));
+        bad = state;
+        bad.rover.arrived = 2;
+        assert!(matches!(
+            bad.validate(),
+            Err(Rejection::UnknownCode { field: "flag", .. })
+        ));
+        bad = state;
+        bad.rover.steer_angles_rad[3] = f64::NAN;
+        assert_eq!(
+            bad.validate(),
+            Err(Rejection::NonFinite("rover.steer_angles_rad"))
+        );
+        bad = state;
+        bad.jumper.landing_position_m[0] = f64::INFINITY;
+        assert!(bad.validate().is_err());
     }
 
     #[test]

@@ -12,7 +12,7 @@ use hopnav_ipc::codec::{self, CodecError};
 use hopnav_ipc::messages::{
     AltimeterSample, BodyStates, CellClass, CellUpdate, CloudHeader, Control, DriveCommand,
     FeaturePoint, FrameTick, Heartbeat, HopLaunch, ImageHeader, ImuSample, JumpRequest, MapHeader,
-    MissionState, PathHeader, PathPoint, PixelFormat, PoseEstimate, Robot,
+    MissionState, PathHeader, PathPoint, PhysicsState, PixelFormat, PoseEstimate, Robot,
 };
 use hopnav_ipc::validate::{Message, Rejection, SequenceGuard, SliceHeader};
 use proptest::prelude::*;
@@ -45,6 +45,7 @@ plain_old_data!(
     DriveCommand,
     JumpRequest,
     HopLaunch,
+    PhysicsState,
     Control,
     ImageHeader,
     CloudHeader,
@@ -218,6 +219,7 @@ message_never_panics!(drive_command, DriveCommand, DriveCommand::default());
 message_never_panics!(jump_request, JumpRequest, JumpRequest::default());
 message_never_panics!(hop_launch, HopLaunch, HopLaunch::default());
 message_never_panics!(control, Control, Control::default());
+message_never_panics!(physics_state, PhysicsState, PhysicsState::default());
 
 proptest! {
     #[test]

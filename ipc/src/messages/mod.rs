@@ -14,6 +14,7 @@ mod heartbeat;
 mod image;
 mod map;
 mod path;
+mod physics_state;
 mod pose;
 mod sensors;
 
@@ -25,6 +26,7 @@ pub use heartbeat::{Heartbeat, NO_FRAME, ProcessState};
 pub use image::{CameraIntrinsics, ImageHeader, PixelFormat};
 pub use map::{CellClass, CellUpdate, MapHeader};
 pub use path::{MissionState, PathHeader, PathPoint};
+pub use physics_state::{BlockCode, HopPhase, JumperCycle, NoiseState, PhysicsState, RoverDrive};
 pub use pose::PoseEstimate;
 pub use sensors::{AltimeterSample, BodyState, BodyStates, ImuSample};
 

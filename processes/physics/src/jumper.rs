@@ -25,6 +25,10 @@
 //! pitched to on landing is the same within 2 mm, so launch and landing heights agree) with
 //! soft CCD; there is no drag (the Martian atmosphere is thin).
 
+mod snapshot;
+
+pub use snapshot::JumperSnapshot;
+
 use hopnav_world::terrain::Heightfield;
 use rapier3d::prelude::{
     ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,

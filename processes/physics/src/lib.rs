@@ -10,6 +10,8 @@
 //! - [`rover`]: the four-wheel-steered rover (kinematic chassis, wheel-contact queries);
 //! - [`sensors`]: barometric altimeter and IMU; [`noise`]: seeded PRNG and Box–Muller;
 //! - [`PhysicsSim`] ([`sim`]): one 100 ms frame per [`PhysicsSim::step_frame`];
+//! - [`SimSnapshot`] and [`PhysicsSim::resume_from`]: a restarted physics continues the
+//!   simulation; [`wire`] turns it into the message it resumes from and back;
 //! - [`bench`]: an own-harness step-time benchmark.
 //!
 //! # Conventions
@@ -35,6 +37,7 @@ pub mod process;
 pub mod rover;
 pub mod sensors;
 pub mod sim;
+pub mod wire;
 
 pub use config::PhysicsConfig;
 pub use error::{ConfigError, PhysicsError};
@@ -43,4 +46,4 @@ pub use frame::{
     HopRequest, HopState, ImuSample, JumperStatus, RoverMode, RoverStatus,
 };
 pub use process::{PhysicsProcess, PhysicsProcessError, physics_section};
-pub use sim::PhysicsSim;
+pub use sim::{PhysicsSim, ResumeError, SimSnapshot};

@@ -18,7 +18,7 @@ pub fn mix64(mut z: u64) -> u64 {
 }
 
 /// A xoshiro256** generator with a cached second Box–Muller sample.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NoiseRng {
     s: [u64; 4],
     spare: Option<f64>,
@@ -37,6 +37,18 @@ impl NoiseRng {
             s[0] = 1;
         }
         Self { s, spare: None }
+    }
+
+    /// The generator's state: its words and the cached Box–Muller sample.
+    pub fn state(&self) -> ([u64; 4], Option<f64>) {
+        (self.s, self.spare)
+    }
+
+    /// A generator continuing from a [`state`](Self::state); `None` for all-zero words (a
+    /// xoshiro generator never reaches them) or a non-finite cached sample.
+    pub fn from_state(words: [u64; 4], spare: Option<f64>) -> Option<Self> {
+        let valid = words != [0; 4] && spare.is_none_or(f64::is_finite);
+        valid.then_some(Self { s: words, spare })
     }
 
     /// Next 64 random bits.
@@ -95,6 +107,19 @@ mod tests {
         let var = sum2 / n as f64 - mean * mean;
         assert!(mean.abs() < 0.01, "mean {mean}");
         assert!((var - 1.0).abs() < 0.02, "var {var}");
+    }
+
+    #[test]
+    fn a_generator_continues_from_its_state() {
+        let mut a = NoiseRng::new(3, 9);
+        a.gaussian();
+        let (words, spare) = a.state();
+        let mut b = NoiseRng::from_state(words, spare).unwrap();
+        for _ in 0..5 {
+            assert_eq!(a.gaussian().to_bits(), b.gaussian().to_bits());
+        }
+        assert!(NoiseRng::from_state([0; 4], None).is_none());
+        assert!(NoiseRng::from_state([1, 0, 0, 0], Some(f64::NAN)).is_none());
     }
 
     #[test]

@@ -9,7 +9,8 @@ use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
 use hopnav_world::World;
 
-use crate::frame::{BodyState, DriveCommand, FrameInputs, HopRequest};
+use crate::frame::{DriveCommand, FrameInputs, HopRequest};
+use crate::wire::{self, body_state};
 use crate::{PhysicsConfig, PhysicsError, PhysicsSim};
 
 /// Why the physics process failed.
@@ -89,19 +90,14 @@ pub struct PhysicsProcess {
     imu: Publisher<msg::ImuSample>,
     altimeter_sigma_m: f64,
     last_jump_request: Option<u64>,
-}
-
-fn body_state(state: &BodyState, collisions: u32) -> msg::BodyState {
-    msg::BodyState {
-        world_from_body: Pose3 {
-            position_m: state.position_m,
-            orientation_xyzw: state.orientation_xyzw,
-        },
-        linear_velocity_mps: state.linear_velocity_mps,
-        angular_velocity_radps: state.angular_velocity_radps,
-        in_contact: u32::from(state.in_contact),
-        collisions,
-    }
+    /// What a restarted physics resumes from, published every frame.
+    state: Publisher<msg::PhysicsState>,
+    /// A restarted incarnation: the supervisor's relay of the last state the previous one
+    /// published, read once at the first step.
+    resume: Option<Subscriber<msg::PhysicsState>>,
+    /// Resume samples refused (by the message checks or as a state this simulation cannot
+    /// continue from), counted with the rejected inputs.
+    resume_rejected: u64,
 }
 
 fn seconds_to_ns(seconds: f64) -> u64 {
@@ -160,6 +156,67 @@ impl PhysicsProcess {
     }
 }
 
+impl PhysicsProcess {
+    /// A restarted incarnation continues the simulation from the last state the previous one
+    /// published; without a usable one it says why and starts over (a fresh simulation is
+    /// always a valid state, only a lossy one).
+    fn resume(&mut self, resume: &Subscriber<msg::PhysicsState>) {
+        let received = resume.receive_latest();
+        self.resume_rejected = resume.rejected().total();
+        let sample = match received {
+            Ok(Some(sample)) => sample,
+            Ok(None) if self.resume_rejected > 0 => {
+                eprintln!(
+                    "physics: rejected {} resume sample(s) that failed the message checks \
+                     (corrupt or out of range); the simulation starts over at t = 0",
+                    self.resume_rejected
+                );
+                return;
+            }
+            Ok(None) => {
+                eprintln!(
+                    "physics: restarted without a resume sample; the simulation starts over \
+                     at t = 0"
+                );
+                return;
+            }
+            Err(error) => {
+                eprintln!("physics: resume sample: {error}; the simulation starts over at t = 0");
+                return;
+            }
+        };
+        let period_s = self.sim.config().frame_period_s;
+        let resumed = wire::resume_state(&sample, period_s)
+            .map_err(|error| error.to_string())
+            .and_then(|resume| {
+                self.sim
+                    .resume_from(&resume.snapshot)
+                    .map_err(|error| error.to_string())
+                    .map(|()| resume.last_jump_request)
+            });
+        match resumed {
+            Ok(last_jump_request) => {
+                self.last_jump_request = last_jump_request;
+                self.hops_announced = self.sim.hop_count();
+                eprintln!(
+                    "physics: resumed at frame {} (t = {:.1} s, hop {}) from the last state \
+                     published",
+                    self.sim.frame_count(),
+                    self.sim.sim_time_s(),
+                    self.sim.hop_count()
+                );
+            }
+            Err(error) => {
+                self.resume_rejected += 1;
+                eprintln!(
+                    "physics: cannot resume from the last state published: {error}; the \
+                     simulation starts over at t = 0"
+                );
+            }
+        }
+    }
+}
+
 /// The simulation at its start state and the altimeter's sigma, from the configuration file.
 fn build_sim(config_path: &std::path::Path) -> Result<(PhysicsSim, f64), PhysicsProcessError> {
     let config = hopnav_config::load_file(config_path)?;
@@ -196,6 +253,13 @@ impl Process for PhysicsProcess {
             altimeter: Publisher::open(node, &topics::ALTIMETER)?,
             imu: Publisher::open(node, &topics::IMU)?,
             last_jump_request: None,
+            state: Publisher::open(node, &topics::PHYSICS_STATE)?,
+            resume: if context.identity.incarnation > 0 {
+                Some(Subscriber::open(node, &topics::RESUME_PHYSICS_STATE)?)
+            } else {
+                None
+            },
+            resume_rejected: 0,
         })
     }
 
@@ -204,6 +268,9 @@ impl Process for PhysicsProcess {
         _context: &ProcessContext,
         tick: &FrameTick,
     ) -> Result<(), PhysicsProcessError> {
+        if let Some(resume) = self.resume.take() {
+            self.resume(&resume);
+        }
         let mut inputs = FrameInputs::default();
         if let Some(command) = self.drive_commands.receive_latest()? {
             inputs.drive = Some(DriveCommand {
@@ -248,10 +315,17 @@ impl Process for PhysicsProcess {
             sample.angular_rate_radps = outputs.imu.angular_velocity_body_radps;
             sample.specific_force_mps2 = outputs.imu.specific_force_body_mps2;
         })?;
+        let state = wire::physics_state(&self.sim.snapshot(), self.last_jump_request);
+        self.state.send_with(|sample| {
+            *sample = state;
+            sample.stamp = stamp;
+        })?;
         Ok(())
     }
 
     fn rejected_samples(&self) -> u64 {
-        self.drive_commands.rejected().total() + self.jump_requests.rejected().total()
+        self.drive_commands.rejected().total()
+            + self.jump_requests.rejected().total()
+            + self.resume_rejected
     }
 }

@@ -35,6 +35,10 @@
 //!
 //! Velocities (for ground truth and the IMU) are finite differences of the committed poses.
 
+mod snapshot;
+
+pub use snapshot::{RestoreError, RoverSnapshot};
+
 use hopnav_world::terrain::Heightfield;
 use rapier3d::math::Pose;
 use rapier3d::parry::query::ShapeCastOptions;

@@ -50,6 +50,18 @@ impl Altimeter {
         -self.cfg.scale_height_m * (p_pa / self.cfg.surface_pressure_pa).ln()
     }
 
+    /// The state of its noise generator.
+    pub fn noise(&self) -> &NoiseRng {
+        &self.rng
+    }
+
+    /// Continues the noise sequence of `rng` (from a previous incarnation's [`noise`]).
+    ///
+    /// [`noise`]: Self::noise
+    pub fn restore_noise(&mut self, rng: NoiseRng) {
+        self.rng = rng;
+    }
+
     /// One sample for a body centre at world height `z_m`.
     pub fn sample(&mut self, z_m: f64) -> AltimeterSample {
         let true_altitude_m = z_m - self.cfg.datum_z_m;
@@ -134,6 +146,18 @@ impl Imu {
     /// Current yaw error of the reported attitude, radians.
     pub fn yaw_error_rad(&self) -> f64 {
         self.yaw_error_rad
+    }
+
+    /// The state of its noise generator.
+    pub fn noise(&self) -> &NoiseRng {
+        &self.rng
+    }
+
+    /// Continues where a previous incarnation left off: its noise generator and its yaw error
+    /// (the biases derive from the seed and are the same).
+    pub fn restore(&mut self, rng: NoiseRng, yaw_error_rad: f64) {
+        self.rng = rng;
+        self.yaw_error_rad = yaw_error_rad;
     }
 
     /// One sample from the frame means and the true attitude; `frame_s` drives the yaw drift.

@@ -19,6 +19,10 @@
 //! Single-threaded rapier (no `parallel` feature), fixed substeps, no wall clock, and seeded
 //! noise: the same world, config, seed and inputs give bitwise-identical outputs.
 
+mod resume;
+
+pub use resume::{ResumeError, SimSnapshot};
+
 use hopnav_world::World;
 use hopnav_world::terrain::Heightfield;
 use rapier3d::parry::shape::Cuboid;

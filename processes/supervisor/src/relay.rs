@@ -73,39 +73,58 @@ pub struct SlotRelays {
     pub relays: Vec<Box<dyn StateRelay>>,
 }
 
+/// Opens a relay as a trait object; one that cannot open is reported and left out.
+fn relay<M: Message + ZeroCopySend>(
+    node: &Node<IpcService>,
+    from: &TopicSpec,
+    to: &TopicSpec,
+) -> Option<Box<dyn StateRelay>> {
+    Relay::<M>::open(node, from, to)
+        .map(|relay| Box::new(relay) as Box<dyn StateRelay>)
+        .map_err(|error| eprintln!("state relay: {error}"))
+        .ok()
+}
+
 /// The relays of the graph's stateful processes that are enabled (`slot_of` maps a name to
 /// its slot). A relay that cannot open is reported and left out: restarts then start fresh.
 pub fn open_relays(
     node: &Node<IpcService>,
     slot_of: impl Fn(&str) -> Option<usize>,
 ) -> Vec<SlotRelays> {
-    use hopnav_ipc::messages::{HopLaunch, PoseEstimate};
+    use hopnav_ipc::messages::{HopLaunch, PhysicsState, PoseEstimate};
     use hopnav_ipc::topics;
     let mut all = Vec::new();
+    if let Some(slot) = slot_of("physics") {
+        let relays = [relay::<PhysicsState>(
+            node,
+            &topics::PHYSICS_STATE,
+            &topics::RESUME_PHYSICS_STATE,
+        )];
+        all.push(SlotRelays {
+            slot,
+            relays: relays.into_iter().flatten().collect(),
+        });
+    }
     if let Some(slot) = slot_of("jumper_vo") {
-        let relays: Vec<Box<dyn StateRelay>> = [
-            Relay::<PoseEstimate>::open(node, &topics::JUMPER_POSE, &topics::RESUME_JUMPER_POSE)
-                .map(|relay| Box::new(relay) as Box<dyn StateRelay>),
-            Relay::<HopLaunch>::open(node, &topics::HOP_LAUNCH, &topics::RESUME_HOP_LAUNCH)
-                .map(|relay| Box::new(relay) as Box<dyn StateRelay>),
-        ]
-        .into_iter()
-        .filter_map(|relay| {
-            relay
-                .map_err(|error| eprintln!("state relay: {error}"))
-                .ok()
-        })
-        .collect();
-        all.push(SlotRelays { slot, relays });
+        let relays = [
+            relay::<PoseEstimate>(node, &topics::JUMPER_POSE, &topics::RESUME_JUMPER_POSE),
+            relay::<HopLaunch>(node, &topics::HOP_LAUNCH, &topics::RESUME_HOP_LAUNCH),
+        ];
+        all.push(SlotRelays {
+            slot,
+            relays: relays.into_iter().flatten().collect(),
+        });
     }
     if let Some(slot) = slot_of("rover_vo") {
-        let relays: Vec<Box<dyn StateRelay>> =
-            Relay::<PoseEstimate>::open(node, &topics::ROVER_POSE, &topics::RESUME_ROVER_POSE)
-                .map(|relay| Box::new(relay) as Box<dyn StateRelay>)
-                .map_err(|error| eprintln!("state relay: {error}"))
-                .into_iter()
-                .collect();
-        all.push(SlotRelays { slot, relays });
+        let relays = [relay::<PoseEstimate>(
+            node,
+            &topics::ROVER_POSE,
+            &topics::RESUME_ROVER_POSE,
+        )];
+        all.push(SlotRelays {
+            slot,
+            relays: relays.into_iter().flatten().collect(),
+        });
     }
     all
 }

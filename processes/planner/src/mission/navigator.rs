@@ -110,8 +110,10 @@ struct BumpedCell {
 const GOAL_IN_OBSTACLE_EXTRA_COST: u32 = 5000;
 
 /// Cost of moving into a doubtful obstacle cell once the goal is unreachable without them,
-/// planner units (1000 = one cell): the rover detours up to this far to avoid one.
-const DOUBTFUL_OBSTACLE_COST: u32 = 8000;
+/// planner units (1000 = one cell): the rover detours up to 100 cells (50 m) to avoid one, so
+/// relaxed cells elsewhere on the map are used only where nothing else leads on (at 8 cells,
+/// routes squeezed through lethal margins between rocks and hit them).
+const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 
 /// Bumped cells remembered (a bounded list: a mission bumps a handful).
 const MAX_BUMPED_CELLS: usize = 256;

@@ -1,25 +1,10 @@
 //! Same seed and inputs → bitwise-identical outputs; another seed → other sensor noise only.
 
-use hopnav_physics::{
-    DriveCommand, FrameInputs, FrameOutputs, HopRequest, PhysicsConfig, PhysicsSim,
-};
-use hopnav_world::{World, WorldConfig};
+mod common;
 
-/// Inputs of frame `k`: the rover drives a square, the jumper is asked to hop now and then.
-fn inputs(k: usize) -> FrameInputs {
-    let corners = [[-6.0, -1.5], [-6.0, 4.0], [-12.0, 4.0], [-12.0, -1.5]];
-    FrameInputs {
-        drive: Some(DriveCommand {
-            waypoint_xy_m: corners[(k / 50) % 4],
-            speed_mps: 0.5,
-            hold: false,
-            reverse: false,
-        }),
-        hop_request: (k % 60 == 59).then_some(HopRequest {
-            target_xy_m: [-2.0 - (k / 60) as f64 * 3.0, 6.0],
-        }),
-    }
-}
+use common::square_drive_inputs as inputs;
+use hopnav_physics::{FrameOutputs, PhysicsConfig, PhysicsSim};
+use hopnav_world::{World, WorldConfig};
 
 fn run(world: &World, seed: u64) -> Vec<FrameOutputs> {
     let mut sim = PhysicsSim::new(world, &PhysicsConfig::default(), seed).unwrap();

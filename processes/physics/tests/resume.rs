@@ -7,10 +7,7 @@ mod common;
 use common::{drive, flat_world, physics};
 use hopnav_ipc::validate::{Message, Rejection};
 use hopnav_physics::wire::{self, ResumeSampleError};
-use hopnav_physics::{
-    DriveCommand, FrameInputs, FrameOutputs, HopRequest, HopState, PhysicsConfig, PhysicsSim,
-    ResumeError,
-};
+use hopnav_physics::{FrameInputs, FrameOutputs, HopState, PhysicsConfig, PhysicsSim, ResumeError};
 use hopnav_world::{World, WorldConfig};
 
 /// The resume sample `sim` would publish now, stamped as the process stamps it.
@@ -117,18 +114,7 @@ fn a_jumper_resumed_mid_flight_flies_on_and_time_continues() {
 fn a_resumed_mission_on_the_default_world_continues_with_its_hops_and_drive() {
     let world = World::generate(&WorldConfig::default()).unwrap();
     let cfg = PhysicsConfig::default();
-    let corners = [[-6.0, -1.5], [-6.0, 4.0], [-12.0, 4.0], [-12.0, -1.5]];
-    let inputs = |k: usize| FrameInputs {
-        drive: Some(DriveCommand {
-            waypoint_xy_m: corners[(k / 50) % 4],
-            speed_mps: 0.5,
-            hold: false,
-            reverse: false,
-        }),
-        hop_request: (k % 60 == 59).then_some(HopRequest {
-            target_xy_m: [-2.0 - (k / 60) as f64 * 3.0, 6.0],
-        }),
-    };
+    let inputs = common::square_drive_inputs;
     let mut original = PhysicsSim::new(&world, &cfg, 11).unwrap();
     for k in 0..75 {
         original.step_frame(&inputs(k));

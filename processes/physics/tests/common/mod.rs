@@ -1,7 +1,9 @@
 //! Shared test fixtures.
 #![allow(dead_code)]
 
-use hopnav_physics::{DriveCommand, FrameInputs, FrameOutputs, PhysicsConfig, PhysicsSim};
+use hopnav_physics::{
+    DriveCommand, FrameInputs, FrameOutputs, HopRequest, PhysicsConfig, PhysicsSim,
+};
 use hopnav_world::config::ExplicitRockConfig;
 use hopnav_world::{World, WorldConfig};
 
@@ -47,4 +49,21 @@ pub fn drive(waypoint_xy_m: [f64; 2], speed_mps: f64) -> FrameInputs {
 pub fn yaw_of(q: [f64; 4]) -> f64 {
     let [x, y, z, w] = q;
     (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z))
+}
+
+/// Inputs of frame `k` on the default world: the rover drives a square, the jumper is asked to
+/// hop now and then.
+pub fn square_drive_inputs(k: usize) -> FrameInputs {
+    let corners = [[-6.0, -1.5], [-6.0, 4.0], [-12.0, 4.0], [-12.0, -1.5]];
+    FrameInputs {
+        drive: Some(DriveCommand {
+            waypoint_xy_m: corners[(k / 50) % 4],
+            speed_mps: 0.5,
+            hold: false,
+            reverse: false,
+        }),
+        hop_request: (k % 60 == 59).then_some(HopRequest {
+            target_xy_m: [-2.0 - (k / 60) as f64 * 3.0, 6.0],
+        }),
+    }
 }

@@ -41,7 +41,7 @@ pub use snapshot::{RestoreError, RoverSnapshot};
 
 use hopnav_world::terrain::Heightfield;
 use rapier3d::math::Pose;
-use rapier3d::parry::query::ShapeCastOptions;
+use rapier3d::parry::query::{ShapeCastOptions, contact};
 use rapier3d::parry::shape::{Ball, Cuboid};
 use rapier3d::prelude::{
     ColliderBuilder, ColliderHandle, PhysicsWorld, QueryFilter, RigidBodyBuilder, RigidBodyHandle,
@@ -56,6 +56,16 @@ use crate::math::{
     DQuat, DVec3, Vec3, angular_velocity_world, quat_from_yaw_pitch_roll, quat_to_xyzw, to_f32,
     vec_to_array, wrap_angle,
 };
+
+/// A move out of a rock must reduce the footprint's penetration by at least this, metres.
+const SEPARATION_EPSILON_M: f32 = 1e-4;
+
+/// The footprint counts as touching a rock within this distance, metres.
+const TOUCH_PREDICTION_M: f32 = 0.05;
+
+/// A move away from a touched rock may overlap it this much (see `separates_from_rock`),
+/// metres.
+const AWAY_OVERLAP_M: f32 = 0.05;
 
 /// How far below the contact plane the blocking footprint box reaches, metres.
 const FOOTPRINT_BELOW_M: f64 = 0.05;
@@ -138,6 +148,14 @@ impl Geometry {
             y_range_m: [oy + r, oy + ey - r],
         }
     }
+
+    /// Pose of the footprint box for a body at `position` with `rotation`.
+    fn footprint_pose(&self, position: DVec3, rotation: DQuat) -> Pose {
+        Pose::from_parts(
+            to_f32(position + rotation * DVec3::new(0.0, 0.0, self.footprint_z_m)),
+            rotation.as_quat(),
+        )
+    }
 }
 
 /// The rover: kinematic chassis, 4WIS controller and wheel-contact model.
@@ -199,8 +217,8 @@ impl Rover {
     ) -> Result<Self, StartError> {
         let geo = Geometry::new(cfg, terrain);
         let xy = cfg.start_xy_m;
-        let placement =
-            place(pw, &geo, cfg, terrain, xy, cfg.start_yaw_rad, 0.0).map_err(|b| match b {
+        let placement = place(pw, &geo, cfg, terrain, (xy, cfg.start_yaw_rad), 0.0, None).map_err(
+            |b| match b {
                 Blocked::Rock(collider, footprint_pose) => StartError::InsideRock {
                     collider,
                     footprint_pose,
@@ -208,7 +226,8 @@ impl Rover {
                 },
                 Blocked::Slope => StartError::TooSteep,
                 Blocked::Boundary => StartError::OutsideTerrain,
-            })?;
+            },
+        )?;
         let [chx, chy, chz] = cfg.chassis_half_extents_m;
         let body = pw.insert_body(
             RigidBodyBuilder::kinematic_position_based()
@@ -304,7 +323,16 @@ impl Rover {
                 self.xy_m[0] + self.v_mps * mid.cos() * dt_s,
                 self.xy_m[1] + self.v_mps * mid.sin() * dt_s,
             ];
-            match place(pw, &self.geo, cfg, terrain, xy, yaw, self.tilt_rad) {
+            let current_footprint = self.footprint_pose();
+            match place(
+                pw,
+                &self.geo,
+                cfg,
+                terrain,
+                (xy, yaw),
+                self.tilt_rad,
+                Some((&current_footprint, SEPARATION_EPSILON_M)),
+            ) {
                 Ok(p) => {
                     self.tilt_rad = p.tilt_rad;
                     self.xy_m = xy;
@@ -340,6 +368,10 @@ impl Rover {
 
     /// After a successful move: ends the rock contact episode once the rover has moved or
     /// turned away from where it began (creeping along the rock keeps it, and its report).
+    fn footprint_pose(&self) -> Pose {
+        self.geo.footprint_pose(self.position, self.rotation)
+    }
+
     fn update_rock_contact(&mut self) {
         match self.rock_contact {
             Some([x, y, yaw])
@@ -519,9 +551,9 @@ fn place(
     geo: &Geometry,
     cfg: &RoverConfig,
     terrain: &Heightfield,
-    xy: [f64; 2],
-    yaw: f64,
+    (xy, yaw): ([f64; 2], f64),
     current_tilt_rad: f64,
+    current_footprint: Option<(&Pose, f32)>,
 ) -> Result<Placement, Blocked> {
     let (s, c) = yaw.sin_cos();
     let climbable = pw.query_pipeline_with_filter(
@@ -576,16 +608,22 @@ fn place(
         0.25 * wheel_z.iter().sum::<f64>() - geo.wheel_radius_m,
     );
     let position = contact_centre + rotation * DVec3::new(0.0, 0.0, geo.centre_above_contact_m);
-    let footprint_pose = Pose::from_parts(
-        to_f32(position + rotation * DVec3::new(0.0, 0.0, geo.footprint_z_m)),
-        rotation.as_quat(),
-    );
+    let footprint_pose = geo.footprint_pose(position, rotation);
     let blocking = pw.query_pipeline_with_filter(
         QueryFilter::only_fixed().groups(query_groups(BLOCKING_ROCK_GROUP)),
     );
     if let Some((h, _)) = blocking
         .intersect_shape(footprint_pose, &geo.footprint)
         .next()
+        && !current_footprint.is_some_and(|(current, min_reduction_m)| {
+            separates_from_rock(
+                pw,
+                h,
+                &geo.footprint,
+                (current, &footprint_pose),
+                min_reduction_m,
+            )
+        })
     {
         return Err(Blocked::Rock(h, footprint_pose));
     }
@@ -626,4 +664,44 @@ mod tests {
         assert!((fold_to_half_plane(-0.75 * pi) - 0.25 * pi).abs() < 1e-12);
         assert_eq!(fold_to_half_plane(0.3), 0.3);
     }
+}
+
+/// True when a rover at `current`, touching or overlapping the blocking rock compound `rock`,
+/// may go to `next`: the move reduces the overlap by at least `min_reduction_m`, or it steps
+/// away from the rock (against the contact normal) and overlaps it at most
+/// [`AWAY_OVERLAP_M`] more. The footprint box reaches below the ground, so a wheel rolling
+/// off a small rock pitches its lower corners a few centimetres into a big rock the rover
+/// touches; without this, backing away from it was refused and the rover wedged for good.
+fn separates_from_rock(
+    pw: &PhysicsWorld,
+    rock: ColliderHandle,
+    footprint: &Cuboid,
+    (current, next): (&Pose, &Pose),
+    min_reduction_m: f32,
+) -> bool {
+    let Some(collider) = pw.colliders.get(rock) else {
+        return false;
+    };
+    let touch = |pose: &Pose, prediction_m: f32| {
+        contact(
+            pose,
+            footprint,
+            collider.position(),
+            collider.shape(),
+            prediction_m,
+        )
+        .ok()
+        .flatten()
+    };
+    let Some(now) = touch(current, TOUCH_PREDICTION_M) else {
+        return false;
+    };
+    let current_depth_m = (-now.dist).max(0.0);
+    let next_depth_m = touch(next, 0.0).map_or(0.0, |hit| (-hit.dist).max(0.0));
+    if current_depth_m > 0.0 && next_depth_m <= current_depth_m - min_reduction_m {
+        return true;
+    }
+    // normal1 points from the footprint toward the rock.
+    let step = next.translation - current.translation;
+    step.dot(now.normal1) < 0.0 && next_depth_m <= current_depth_m + AWAY_OVERLAP_M
 }

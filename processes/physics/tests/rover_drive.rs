@@ -147,6 +147,40 @@ fn a_blocked_rover_backs_away_rear_first_and_can_then_turn() {
     assert_eq!(last.rover_status.collision_count, 1);
 }
 
+/// Backing away from a tall rock with a rear wheel rolling onto a small rock: the body pitches,
+/// and the footprint's lower front corner swings a little into the tall rock it touches.
+/// That must not wedge the rover.
+#[test]
+fn a_rover_backing_away_over_a_small_rock_is_not_wedged_by_the_rock_it_touched() {
+    let tall = rock(0.0, -3.0, 1.0, 0.5);
+    let probe = flat_world(32.0, 16.0, std::slice::from_ref(&tall));
+    let mut sim = PhysicsSim::new(&probe, &rover_cfg([-5.0, -3.0]), 3).unwrap();
+    let against_x_m = run(&mut sim, 300, drive([5.0, -3.0], 0.5))
+        .last()
+        .unwrap()
+        .rover
+        .position_m[0];
+    // The same world with a small rock under the left rear wheel's way back (a spot found by
+    // a scan of positions and heights: without the rule it wedged the rover for good).
+    let small = rock(against_x_m - 0.45, -3.0 + 0.35, 0.3, 0.15);
+    let world = flat_world(32.0, 16.0, &[tall, small]);
+    let mut sim = PhysicsSim::new(&world, &rover_cfg([-5.0, -3.0]), 3).unwrap();
+    let blocked = run(&mut sim, 300, drive([5.0, -3.0], 0.5)).pop().unwrap();
+    assert_eq!(blocked.rover_status.blocked, Some(BlockReason::Rock));
+    let against_x_m = blocked.rover.position_m[0];
+    let mut back = drive([against_x_m - 1.5, -3.0], 0.3);
+    if let Some(command) = back.drive.as_mut() {
+        command.reverse = true;
+    }
+    let last = run(&mut sim, 80, back).pop().unwrap();
+    assert!(
+        last.rover.position_m[0] < against_x_m - 0.45,
+        "backed up from {against_x_m} to {} ({:?})",
+        last.rover.position_m[0],
+        last.rover_status
+    );
+}
+
 #[test]
 fn small_rock_is_climbed() {
     // 0.12 m pebble under the left wheels' path.

@@ -8,7 +8,7 @@ use rapier3d::prelude::PhysicsWorld;
 use super::{Blocked, Rover, place};
 use crate::config::RoverConfig;
 use crate::frame::{BlockReason, BodyState, DriveCommand};
-use crate::math::{DVec3, to_f32, wrap_angle};
+use crate::math::{DQuat, DVec3, to_f32, wrap_angle};
 
 /// The controller and wheel state beyond the chassis velocities.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -66,6 +66,10 @@ pub enum RestoreError {
 /// placement is deterministic, so on the same world the two agree to rounding.
 const POSE_TOLERANCE_M: f64 = 0.01;
 
+/// A restored rover may overlap a rock this much deeper than where it stood (f32 round
+/// trips), metres.
+const RESTORE_DEPTH_TOLERANCE_M: f32 = 1e-3;
+
 impl Rover {
     /// The controller now.
     pub fn snapshot(&self) -> RoverSnapshot {
@@ -97,15 +101,20 @@ impl Rover {
         snapshot: &RoverSnapshot,
     ) -> Result<(), RestoreError> {
         let [x_m, y_m] = snapshot.xy_m;
-        // The rover stood there, whatever its tilt: a slope limit does not apply.
+        // The rover stood there, whatever its tilt: a slope limit does not apply, and a rock
+        // it overlapped (moving out of it) may overlap it as deep again.
+        let stood = self.geo.footprint_pose(
+            DVec3::from_array(body.position_m),
+            DQuat::from_array(body.orientation_xyzw),
+        );
         let placement = place(
             pw,
             &self.geo,
             cfg,
             terrain,
-            snapshot.xy_m,
-            snapshot.yaw_rad,
+            (snapshot.xy_m, snapshot.yaw_rad),
             f64::INFINITY,
+            Some((&stood, -RESTORE_DEPTH_TOLERANCE_M)),
         )
         .map_err(|blocked| RestoreError::CannotStand {
             x_m,

@@ -111,6 +111,13 @@ fn cell_change(update: &CellUpdate) -> Option<MapChange> {
     })
 }
 
+/// Angle between the rover's body z axis and the world vertical, radians.
+fn tilt_rad(pose: &PoseEstimate) -> f64 {
+    let (roll_rad, pitch_rad, _) = pose.world_from_body.to_isometry().rotation.euler_angles();
+    // The body z axis's vertical component is cos(roll)·cos(pitch) whatever the yaw.
+    (roll_rad.cos() * pitch_rad.cos()).clamp(-1.0, 1.0).acos()
+}
+
 fn mission_state(decision: Option<&Decision>) -> MissionState {
     match decision.map(|decision| decision.status) {
         None => MissionState::Waiting,
@@ -281,6 +288,7 @@ impl Process for PlannerProcess {
                     xy_m: [x_m, y_m],
                     yaw_rad,
                 };
+                navigator.set_rover_tilt(tilt_rad(&pose));
                 Some(navigator.step(rover, self.last_jumper_xy_m, time_s)?)
             }
             _ => None,

@@ -160,6 +160,20 @@ impl Bumper {
             return BumperEvent::Clear;
         }
         self.stalls += 1;
+        self.start_back_off(pose, time_s)
+    }
+
+    /// The rover, driving forward, tilted beyond what is safe at `time_s`: back off now, as
+    /// from a stall (a frame already backing off goes on with it).
+    pub fn tilted(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
+        if self.backing_off.is_some() {
+            return self.observe(pose, time_s, true);
+        }
+        self.extend_trail(pose.xy_m);
+        self.start_back_off(pose, time_s)
+    }
+
+    fn start_back_off(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
         self.anchor = None;
         self.backing_off = Some(BackOff {
             from: pose,

@@ -29,6 +29,11 @@ pub struct NavigatorConfig {
     /// The cell this far ahead of a stuck rover is marked as an obstacle, metres (half the
     /// chassis length plus a little).
     pub bump_reach_m: f64,
+    /// Driving on, the rover stops and backs off when its tilt (from the VO attitude, whose
+    /// roll and pitch come from the IMU) exceeds this, and the cell ahead is marked: a crater
+    /// wall is no obstacle to the mapper (nothing stands above the local ground) but wedges
+    /// the rover at its 30° limit, radians.
+    pub max_safe_tilt_rad: f64,
     /// When to ask the jumper to scout (cooperative mode only).
     pub scout: ScoutConfig,
 }
@@ -46,6 +51,7 @@ impl Default for NavigatorConfig {
             back_off_m: 0.6,
             back_off_timeout_s: 5.0,
             bump_reach_m: 0.8,
+            max_safe_tilt_rad: 22f64.to_radians(),
             scout: ScoutConfig::default(),
         }
     }
@@ -84,7 +90,7 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 14] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 15] = [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
             ("stall_yaw_rad", self.stall_yaw_rad, 0.001, 3.0, "0.001..=3"),
             ("back_off_m", self.back_off_m, 0.0, 10.0, "0..=10"),
@@ -96,6 +102,13 @@ impl NavigatorConfig {
                 "0.1..=600",
             ),
             ("bump_reach_m", self.bump_reach_m, 0.1, 10.0, "0.1..=10"),
+            (
+                "max_safe_tilt_rad",
+                self.max_safe_tilt_rad,
+                0.05,
+                1.5,
+                "0.05..=1.5",
+            ),
             (
                 "stall_distance_m",
                 self.stall_distance_m,

@@ -74,6 +74,8 @@ pub struct NavigatorCounters {
     pub blocked_marks: u32,
     /// Times the bump marks were forgotten because they alone cut the rover off the goal.
     pub bump_marks_forgotten: u32,
+    /// Times the rover tilted beyond `max_safe_tilt_rad` and backed off.
+    pub tilt_stops: u32,
     /// Doubtful obstacles (see [`MapChange`]) cut the rover off the goal once, and are planned
     /// through at a high cost since.
     pub doubts_relaxed: bool,
@@ -140,6 +142,8 @@ pub struct Navigator {
     /// Doubtful obstacles are planned through at [`DOUBTFUL_OBSTACLE_COST`]: set once they
     /// alone made the goal unreachable, for the rest of the mission.
     doubts_relaxed: bool,
+    /// The rover's tilt from vertical, radians (see [`Navigator::set_rover_tilt`]).
+    rover_tilt_rad: f64,
 }
 
 impl Navigator {
@@ -182,7 +186,16 @@ impl Navigator {
             bumped: Vec::new(),
             doubtful: vec![false; cell_count],
             doubts_relaxed: false,
+            rover_tilt_rad: 0.0,
         })
+    }
+
+    /// The rover's tilt from vertical for the next [`step`](Self::step), radians (0 until
+    /// set; non-finite values are ignored).
+    pub fn set_rover_tilt(&mut self, tilt_rad: f64) {
+        if tilt_rad.is_finite() {
+            self.rover_tilt_rad = tilt_rad.abs();
+        }
     }
 
     /// The grid placement.
@@ -313,9 +326,17 @@ impl Navigator {
             let replanned = self.apply_pending()?;
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
         }
-        if let BumperEvent::Stuck { obstacle_m } = self.bumper.observe(rover, time_s, self.driving)
-        {
-            self.mark_bumped(obstacle_m, rover_cell);
+        let too_steep = self.driving
+            && self.rover_tilt_rad > self.config.max_safe_tilt_rad
+            && self.bumper.back_off_waypoint().is_none();
+        let event = if too_steep {
+            self.counters.tilt_stops += 1;
+            self.bumper.tilted(rover, time_s)
+        } else {
+            self.bumper.observe(rover, time_s, self.driving)
+        };
+        if let BumperEvent::Stuck { obstacle_m } = event {
+            self.mark_bumped_ahead(rover, obstacle_m, rover_cell);
         }
         let replanned = self.apply_pending()?;
         if let Some(waypoint_m) = self.bumper.back_off_waypoint() {
@@ -378,18 +399,37 @@ impl Navigator {
         })
     }
 
+    /// The rover is stuck against something at `obstacle_m` ahead: marks that cell, or, when
+    /// it is already marked (the rover stalled again facing the same way: the rock or slope is
+    /// wider than a cell), the next unmarked cell ahead-left or ahead-right of it.
+    fn mark_bumped_ahead(&mut self, rover: RoverPose, obstacle_m: [f64; 2], rover_cell: Cell) {
+        let reach_m = distance_m(rover.xy_m, obstacle_m);
+        let candidates = [0.0, 0.6, -0.6, 1.1, -1.1].map(|turn_rad| {
+            RoverPose {
+                xy_m: rover.xy_m,
+                yaw_rad: rover.yaw_rad + turn_rad,
+            }
+            .ahead_m(reach_m)
+        });
+        for candidate_m in candidates {
+            if self.mark_bumped(candidate_m, rover_cell) {
+                return;
+            }
+        }
+    }
+
     /// The rover is stuck against something at `obstacle_m` the map does not show: mark its
     /// cell as an obstacle so the next search goes around it (never the goal or the rover's
-    /// own cell).
-    fn mark_bumped(&mut self, obstacle_m: [f64; 2], rover_cell: Cell) {
+    /// own cell). True when a new cell was marked.
+    fn mark_bumped(&mut self, obstacle_m: [f64; 2], rover_cell: Cell) -> bool {
         let Some(cell) = self.geometry.cell_of(obstacle_m) else {
-            return;
+            return false;
         };
         if cell == self.planner.goal()
             || cell == rover_cell
             || self.bumped.iter().any(|bumped| bumped.cell == cell)
         {
-            return;
+            return false;
         }
         let grid = self.planner.grid();
         let mapper = CellChange::new(
@@ -403,6 +443,7 @@ impl Navigator {
             self.bumped.push(BumpedCell { cell, mapper });
         }
         self.counters.blocked_marks += 1;
+        true
     }
 
     /// When the goal is unreachable and bump marks exist, they may be what cuts the rover
@@ -723,6 +764,31 @@ mod tests {
         assert!(!navigator.path().contains(&confirmed_rock));
         let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 0.0, 4000);
         assert_eq!(decision.status, MissionStatus::GoalReached);
+    }
+
+    #[test]
+    fn a_rover_tilted_beyond_the_safe_limit_backs_off_and_marks_the_cell_ahead() {
+        let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+        let mut config = NavigatorConfig::default();
+        config.scout.enabled = false;
+        let limit_rad = config.max_safe_tilt_rad;
+        let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+        navigator.set_rover_tilt(0.5 * limit_rad);
+        let first = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
+        assert!(!first.reverse);
+        navigator.set_rover_tilt(1.1 * limit_rad);
+        let tilted = navigator.step(at([2.5, 5.0]), None, 0.1).unwrap();
+        assert!(tilted.reverse, "{tilted:?}");
+        assert!(tilted.waypoint_m[0] < 2.5);
+        let counters = navigator.counters();
+        assert_eq!((counters.tilt_stops, counters.blocked_marks), (1, 1));
+        let ahead = geometry.cell_of([2.5 + 0.8, 5.0]).unwrap();
+        assert_eq!(navigator.grid().state(ahead), Some(CellState::Obstacle));
+        // Backed off onto level ground, it plans around the marked cell.
+        navigator.set_rover_tilt(f64::NAN);
+        navigator.set_rover_tilt(0.0);
+        let level = navigator.step(at([1.5, 5.0]), None, 1.0).unwrap();
+        assert!(!level.reverse && !navigator.path().contains(&ahead));
     }
 
     #[test]

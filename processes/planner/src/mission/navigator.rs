@@ -117,6 +117,9 @@ const GOAL_IN_OBSTACLE_EXTRA_COST: u32 = 5000;
 /// routes squeezed through lethal margins between rocks and hit them).
 const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 
+/// On steep ground, the rover stops again only once this much steeper, radians (2°).
+const TILT_STOP_MARGIN_RAD: f64 = 0.035;
+
 /// Bumped cells remembered (a bounded list: a mission bumps a handful).
 const MAX_BUMPED_CELLS: usize = 256;
 
@@ -144,6 +147,9 @@ pub struct Navigator {
     doubts_relaxed: bool,
     /// The rover's tilt from vertical, radians (see [`Navigator::set_rover_tilt`]).
     rover_tilt_rad: f64,
+    /// Tilt beyond which the rover stops: `max_safe_tilt_rad`, or a little more than the
+    /// tilt of the last stop (or of the start) while the rover stays on steeper ground.
+    tilt_floor_rad: Option<f64>,
 }
 
 impl Navigator {
@@ -187,6 +193,7 @@ impl Navigator {
             doubtful: vec![false; cell_count],
             doubts_relaxed: false,
             rover_tilt_rad: 0.0,
+            tilt_floor_rad: None,
         })
     }
 
@@ -326,11 +333,21 @@ impl Navigator {
             let replanned = self.apply_pending()?;
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
         }
-        let too_steep = self.driving
-            && self.rover_tilt_rad > self.config.max_safe_tilt_rad
-            && self.bumper.back_off_waypoint().is_none();
+        let tilt_rad = self.rover_tilt_rad;
+        let safe_rad = self.config.max_safe_tilt_rad;
+        // Already on a slope steeper than safe (started there, or came back): only getting
+        // steeper still stops the rover, else backing off could take it onto a steeper part.
+        let floor_rad = *self
+            .tilt_floor_rad
+            .get_or_insert(safe_rad.max(tilt_rad + TILT_STOP_MARGIN_RAD));
+        if tilt_rad < safe_rad {
+            self.tilt_floor_rad = Some(safe_rad);
+        }
+        let too_steep =
+            self.driving && tilt_rad > floor_rad && self.bumper.back_off_waypoint().is_none();
         let event = if too_steep {
             self.counters.tilt_stops += 1;
+            self.tilt_floor_rad = Some(tilt_rad + TILT_STOP_MARGIN_RAD);
             self.bumper.tilted(rover, time_s)
         } else {
             self.bumper.observe(rover, time_s, self.driving)
@@ -353,7 +370,13 @@ impl Navigator {
         }
         // Mapping noise or a cut corner can put the rover in an obstacle cell: plan from the
         // nearest traversable cell instead (an obstacle start would have no way out).
-        let Some(start_cell) = self.nearest_traversable(rover_cell, rover_m) else {
+        let mut start = self.nearest_traversable(rover_cell, rover_m);
+        // Walled in by marks and doubtful cells (a rover backing around in a crater): they
+        // are guesses; drop them before giving up.
+        if start.is_none() && (self.forget_bump_marks()? | self.relax_doubts()?) {
+            start = self.nearest_traversable(rover_cell, rover_m);
+        }
+        let Some(start_cell) = start else {
             return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
         };
         if start_cell != self.planner.start() {
@@ -789,6 +812,22 @@ mod tests {
         navigator.set_rover_tilt(0.0);
         let level = navigator.step(at([1.5, 5.0]), None, 1.0).unwrap();
         assert!(!level.reverse && !navigator.path().contains(&ahead));
+    }
+
+    #[test]
+    fn a_rover_starting_on_a_steep_slope_stops_only_if_it_gets_steeper() {
+        let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+        let mut config = NavigatorConfig::default();
+        config.scout.enabled = false;
+        let steep_rad = config.max_safe_tilt_rad + 0.05;
+        let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+        navigator.set_rover_tilt(steep_rad);
+        assert!(!navigator.step(at([2.0, 5.0]), None, 0.0).unwrap().reverse);
+        navigator.set_rover_tilt(steep_rad + 0.01);
+        assert!(!navigator.step(at([2.1, 5.0]), None, 0.1).unwrap().reverse);
+        navigator.set_rover_tilt(steep_rad + 0.1);
+        assert!(navigator.step(at([2.2, 5.0]), None, 0.2).unwrap().reverse);
+        assert_eq!(navigator.counters().tilt_stops, 1);
     }
 
     #[test]

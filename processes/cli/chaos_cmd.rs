@@ -56,6 +56,22 @@ struct ChaosRun {
     panics: usize,
 }
 
+impl ChaosRun {
+    /// A run whose launch never got going (no report: no mission, faults or panics).
+    fn without_launch(run: u64, outcome: String, before: usize, after: usize) -> Self {
+        Self {
+            run,
+            outcome,
+            mission: None,
+            faults: Vec::new(),
+            hopnav_files_before: before,
+            hopnav_files_after: after,
+            leftover_files: 0,
+            panics: 0,
+        }
+    }
+}
+
 /// SplitMix64: a tiny seeded generator for the fault draw.
 struct Draw(u64);
 
@@ -199,16 +215,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         let record = match outcome {
             Err(LaunchError::Interrupted) => {
                 interrupted = true;
-                ChaosRun {
-                    run,
-                    outcome: "interrupted (during start-up)".into(),
-                    mission: None,
-                    faults: Vec::new(),
-                    hopnav_files_before: before,
-                    hopnav_files_after: after,
-                    leftover_files: 0,
-                    panics: 0,
-                }
+                ChaosRun::without_launch(run, "interrupted (during start-up)".into(), before, after)
             }
             Ok(outcome) => {
                 interrupted = outcome.interrupted;
@@ -235,16 +242,9 @@ pub fn run(args: ChaosArgs) -> ExitCode {
                     panics,
                 }
             }
-            Err(error) => ChaosRun {
-                run,
-                outcome: format!("launch failed: {error}"),
-                mission: None,
-                faults: Vec::new(),
-                hopnav_files_before: before,
-                hopnav_files_after: after,
-                leftover_files: 0,
-                panics: 0,
-            },
+            Err(error) => {
+                ChaosRun::without_launch(run, format!("launch failed: {error}"), before, after)
+            }
         };
         runs.push(record);
         if interrupted {

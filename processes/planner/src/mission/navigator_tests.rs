@@ -1,0 +1,368 @@
+//! Tests of the navigator: driving a point rover over revealed grids.
+
+use super::*;
+
+fn at(xy_m: [f64; 2]) -> RoverPose {
+    RoverPose { xy_m, yaw_rad: 0.0 }
+}
+
+/// Drives a point rover along the decisions; cells within `reveal_m` are revealed from
+/// `truth` each frame. Returns the last decision and the frames used.
+fn drive(
+    navigator: &mut Navigator,
+    truth: &Grid,
+    start_m: [f64; 2],
+    reveal_m: f64,
+    max_frames: usize,
+) -> (Decision, usize) {
+    drive_among_hidden(navigator, truth, &[], start_m, reveal_m, max_frames)
+}
+
+/// [`drive`] with `hidden` cells that stop the rover but that no sensor ever reveals.
+fn drive_among_hidden(
+    navigator: &mut Navigator,
+    truth: &Grid,
+    hidden: &[Cell],
+    start_m: [f64; 2],
+    reveal_m: f64,
+    max_frames: usize,
+) -> (Decision, usize) {
+    let geometry = *navigator.geometry();
+    let mut rover = at(start_m);
+    let step_m: f64 = 0.05;
+    for frame in 0..max_frames {
+        let rover_m = rover.xy_m;
+        let mut changes = Vec::new();
+        for index in 0..truth.cell_count() {
+            let cell = truth.cell_at(index).unwrap();
+            let centre_m = geometry.center_of(cell);
+            if distance_m(centre_m, rover_m) <= reveal_m
+                && navigator.grid().state(cell) == Some(CellState::Unknown)
+            {
+                changes.push(CellChange::new(cell, truth.state(cell).unwrap(), 0));
+            }
+        }
+        navigator.queue_changes(changes);
+        let decision = navigator.step(rover, None, frame as f64 * 0.1).unwrap();
+        if decision.hold {
+            return (decision, frame);
+        }
+        let [dx, dy] = [
+            decision.waypoint_m[0] - rover_m[0],
+            decision.waypoint_m[1] - rover_m[1],
+        ];
+        let length = dx.hypot(dy).max(1e-9);
+        let advance = step_m.min(length);
+        let next_m = [
+            rover_m[0] + dx / length * advance,
+            rover_m[1] + dy / length * advance,
+        ];
+        let blocked = geometry
+            .cell_of(next_m)
+            .is_some_and(|cell| hidden.contains(&cell));
+        if !blocked {
+            // A reversing rover keeps its heading; otherwise it faces where it goes.
+            let yaw_rad = if decision.reverse {
+                rover.yaw_rad
+            } else {
+                dy.atan2(dx)
+            };
+            rover = RoverPose {
+                xy_m: next_m,
+                yaw_rad,
+            };
+        }
+    }
+    panic!(
+        "no terminal decision in {max_frames} frames: rover {rover:?}, {:?}",
+        navigator.counters()
+    );
+}
+
+fn walled_world() -> (MapGeometry, Grid) {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 60, 40).unwrap();
+    let mut truth = Grid::new(60, 40, CellState::Free).unwrap();
+    // A wall one cell thick across x = 15 m, open above y = 17 m.
+    for y in 0..34 {
+        truth
+            .apply(&CellChange::new(Cell::new(30, y), CellState::Obstacle, 0))
+            .unwrap();
+    }
+    (geometry, truth)
+}
+
+#[test]
+fn reaches_the_goal_around_a_thin_wall_it_discovers() {
+    let (geometry, truth) = walled_world();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [28.0, 5.0], config).unwrap();
+    let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 4.0, 2000);
+    assert_eq!(decision.status, MissionStatus::GoalReached);
+    assert!(navigator.counters().replans >= 1);
+    assert!(navigator.counters().total_expansions > 0);
+}
+
+#[test]
+fn an_unreachable_goal_is_a_clear_status_not_a_hang() {
+    let (geometry, mut truth) = walled_world();
+    for y in 34..40 {
+        truth
+            .apply(&CellChange::new(Cell::new(30, y), CellState::Obstacle, 0))
+            .unwrap();
+    }
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [28.0, 5.0], config).unwrap();
+    let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 40.0, 2000);
+    assert_eq!(decision.status, MissionStatus::Unreachable);
+    assert_eq!(decision.speed_mps, 0.0);
+}
+
+#[test]
+fn doubtful_obstacles_that_alone_cut_off_the_goal_are_driven_through_at_a_cost() {
+    let (geometry, truth) = walled_world();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [28.0, 5.0], config).unwrap();
+    // The rover's rocks close the wall below y = 17 m; the jumper's, above it.
+    let confirmed = (0..truth.cell_count()).map(|index| {
+        let cell = truth.cell_at(index).unwrap();
+        MapChange::from(CellChange::new(cell, truth.state(cell).unwrap(), 0))
+    });
+    navigator.queue_changes(confirmed);
+    let doubtful = (34..40).map(|y| MapChange {
+        change: CellChange::new(Cell::new(30, y), CellState::Obstacle, 0),
+        doubtful: true,
+    });
+    navigator.queue_changes(doubtful);
+    let decision = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
+    assert_eq!(decision.status, MissionStatus::Driving);
+    assert!(navigator.counters().doubts_relaxed);
+    assert!(
+        navigator
+            .path()
+            .iter()
+            .any(|cell| cell.x == 30 && cell.y >= 34)
+    );
+    // The rover's stereo confirms one of them: the path avoids it from then on.
+    let confirmed_rock = navigator
+        .path()
+        .iter()
+        .copied()
+        .find(|cell| cell.x == 30)
+        .unwrap();
+    navigator.queue_changes([CellChange::new(confirmed_rock, CellState::Obstacle, 0)]);
+    navigator.step(at([2.0, 5.0]), None, 0.1).unwrap();
+    assert!(!navigator.path().contains(&confirmed_rock));
+    let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 0.0, 4000);
+    assert_eq!(decision.status, MissionStatus::GoalReached);
+}
+
+#[test]
+fn a_rover_tilted_beyond_the_safe_limit_backs_off_and_marks_the_cell_ahead() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let limit_rad = config.max_safe_tilt_rad;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+    navigator.set_rover_tilt(0.5 * limit_rad);
+    let first = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
+    assert!(!first.reverse);
+    navigator.set_rover_tilt(1.1 * limit_rad);
+    let tilted = navigator.step(at([2.5, 5.0]), None, 0.1).unwrap();
+    assert!(tilted.reverse, "{tilted:?}");
+    assert!(tilted.waypoint_m[0] < 2.5);
+    let counters = navigator.counters();
+    assert_eq!((counters.tilt_stops, counters.blocked_marks), (1, 1));
+    let ahead = geometry.cell_of([2.5 + 0.8, 5.0]).unwrap();
+    assert_eq!(navigator.grid().state(ahead), Some(CellState::Obstacle));
+    // Backed off onto level ground, it plans around the marked cell.
+    navigator.set_rover_tilt(f64::NAN);
+    navigator.set_rover_tilt(0.0);
+    let level = navigator.step(at([1.5, 5.0]), None, 1.0).unwrap();
+    assert!(!level.reverse && !navigator.path().contains(&ahead));
+}
+
+#[test]
+fn a_rover_starting_on_a_steep_slope_stops_only_if_it_gets_steeper() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let steep_rad = config.max_safe_tilt_rad + 0.05;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+    navigator.set_rover_tilt(steep_rad);
+    assert!(!navigator.step(at([2.0, 5.0]), None, 0.0).unwrap().reverse);
+    navigator.set_rover_tilt(steep_rad + 0.01);
+    assert!(!navigator.step(at([2.1, 5.0]), None, 0.1).unwrap().reverse);
+    navigator.set_rover_tilt(steep_rad + 0.1);
+    assert!(navigator.step(at([2.2, 5.0]), None, 0.2).unwrap().reverse);
+    assert_eq!(navigator.counters().tilt_stops, 1);
+}
+
+#[test]
+fn a_rover_stuck_on_an_unmapped_rock_backs_off_marks_it_and_goes_around() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+    // A rock no camera sees, straight on the line from start to goal.
+    let rock = geometry.cell_of([10.0, 5.0]).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+    let mut reversed = false;
+    let mut rover = at([2.0, 5.0]);
+    for frame in 0..3000 {
+        let decision = navigator.step(rover, None, frame as f64 * 0.1).unwrap();
+        reversed |= decision.reverse;
+        if decision.hold {
+            assert_eq!(decision.status, MissionStatus::GoalReached);
+            break;
+        }
+        let [dx, dy] = [
+            decision.waypoint_m[0] - rover.xy_m[0],
+            decision.waypoint_m[1] - rover.xy_m[1],
+        ];
+        let length = dx.hypot(dy).max(1e-9);
+        let advance = 0.05_f64.min(length);
+        let next_m = [
+            rover.xy_m[0] + dx / length * advance,
+            rover.xy_m[1] + dy / length * advance,
+        ];
+        // The chassis front (0.5 m ahead) may not enter the rock's cell.
+        let yaw_rad = if decision.reverse {
+            rover.yaw_rad
+        } else {
+            dy.atan2(dx)
+        };
+        let front_m = RoverPose {
+            xy_m: next_m,
+            yaw_rad,
+        }
+        .ahead_m(0.5);
+        if geometry.cell_of(front_m) != Some(rock) {
+            rover = RoverPose {
+                xy_m: next_m,
+                yaw_rad,
+            };
+        }
+    }
+    assert!(distance_m(rover.xy_m, [18.0, 5.0]) < 1.0, "{rover:?}");
+    assert!(reversed, "it backed off");
+    assert!(navigator.counters().blocked_marks >= 1);
+    assert_eq!(navigator.grid().state(rock), Some(CellState::Obstacle));
+}
+
+#[test]
+fn bump_marks_that_alone_cut_off_the_goal_are_forgotten() {
+    let (geometry, mut truth) = walled_world();
+    // Close the wall but for one gap at y = 10 m.
+    for y in 34..40 {
+        truth
+            .apply(&CellChange::new(Cell::new(30, y), CellState::Obstacle, 0))
+            .unwrap();
+    }
+    let gap = Cell::new(30, 20);
+    truth
+        .apply(&CellChange::new(gap, CellState::Free, 0))
+        .unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [13.0, 10.25], [28.0, 10.25], config).unwrap();
+    // The rover sits still facing the gap for a while (a wheel slipping, say): a stall.
+    let stuck = RoverPose {
+        xy_m: [14.4, 10.25],
+        yaw_rad: 0.0,
+    };
+    let changes: Vec<CellChange> = (0..truth.cell_count())
+        .filter_map(|index| truth.cell_at(index))
+        .map(|cell| CellChange::new(cell, truth.state(cell).unwrap(), 0))
+        .collect();
+    navigator.queue_changes(changes);
+    for frame in 0..40 {
+        navigator.step(stuck, None, frame as f64 * 0.1).unwrap();
+    }
+    assert_eq!(navigator.counters().blocked_marks, 1);
+    assert_eq!(navigator.grid().state(gap), Some(CellState::Obstacle));
+    // Backed off, it finds the gap closed by its own mark: it forgets the mark and goes on.
+    let (decision, _) = drive(&mut navigator, &truth, [13.6, 10.25], 40.0, 3000);
+    assert_eq!(decision.status, MissionStatus::GoalReached);
+    assert_eq!(navigator.counters().bump_marks_forgotten, 1);
+}
+
+#[test]
+fn an_obstacle_reported_on_the_goal_does_not_make_it_unreachable() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 20, 20).unwrap();
+    let mut navigator =
+        Navigator::new(geometry, [1.0, 5.0], [8.0, 5.0], NavigatorConfig::default()).unwrap();
+    let goal = geometry.cell_of([8.0, 5.0]).unwrap();
+    navigator.queue_changes([CellChange::new(goal, CellState::Obstacle, 0)]);
+    let decision = navigator.step(at([1.0, 5.0]), None, 0.0).unwrap();
+    assert_eq!(decision.status, MissionStatus::Driving);
+    assert_eq!(navigator.grid().state(goal), Some(CellState::Free));
+}
+
+#[test]
+fn start_at_the_goal_holds_at_once() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 20, 20).unwrap();
+    let mut navigator =
+        Navigator::new(geometry, [5.0, 5.0], [5.2, 5.0], NavigatorConfig::default()).unwrap();
+    let decision = navigator.step(at([5.0, 5.0]), None, 0.0).unwrap();
+    assert_eq!(decision.status, MissionStatus::GoalReached);
+    assert!(decision.hold);
+}
+
+#[test]
+fn asks_the_jumper_to_scout_beyond_sensing_range_once_per_interval() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 100, 20).unwrap();
+    let mut navigator = Navigator::new(
+        geometry,
+        [1.0, 5.0],
+        [48.0, 5.0],
+        NavigatorConfig::default(),
+    )
+    .unwrap();
+    // The rover turns a little between calls: it is not stuck.
+    let turned = |yaw_rad| RoverPose {
+        xy_m: [1.0, 5.0],
+        yaw_rad,
+    };
+    // Nothing before the first interval: the jumper's own first hop is in the air.
+    assert!(
+        navigator
+            .step(turned(0.0), None, 1.0)
+            .unwrap()
+            .scout
+            .is_none()
+    );
+    let decision = navigator.step(turned(0.5), None, 10.0).unwrap();
+    let scout = decision.scout.expect("a hop request");
+    assert!((scout.target_m[0] - 20.75).abs() < 0.5, "{scout:?}");
+    assert!(
+        navigator
+            .step(turned(0.0), None, 12.0)
+            .unwrap()
+            .scout
+            .is_none()
+    );
+    assert_eq!(navigator.counters().scout_requests, 1);
+}
+
+#[test]
+fn outside_positions_are_errors_not_panics() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 20, 20).unwrap();
+    assert!(
+        Navigator::new(
+            geometry,
+            [-5.0, 5.0],
+            [5.0, 5.0],
+            NavigatorConfig::default()
+        )
+        .is_err()
+    );
+    let mut navigator =
+        Navigator::new(geometry, [1.0, 1.0], [8.0, 8.0], NavigatorConfig::default()).unwrap();
+    assert!(navigator.step(at([f64::NAN, 1.0]), None, 0.0).is_err());
+    assert_eq!(
+        navigator.queue_changes([CellChange::new(Cell::new(99, 0), CellState::Obstacle, 0)]),
+        1
+    );
+}

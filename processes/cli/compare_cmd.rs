@@ -251,12 +251,13 @@ fn print_table(rows: &[CompareRow]) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
         out,
-        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>8} {:>11} {:>7} {:>6} {:>10}",
+        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>8} {:>11} {:>7} {:>6} {:>10}",
         "seed",
         "k",
         "mode",
         "reached",
         "path m",
+        "best m",
         "replans",
         "expansions",
         "time s",
@@ -268,12 +269,13 @@ fn print_table(rows: &[CompareRow]) {
             Some(mission) => {
                 let _ = writeln!(
                     out,
-                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>8} {:>11} {:>7.1} {:>6} {:>10}",
+                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>8} {:>11} {:>7.1} {:>6} {:>10}",
                     row.seed,
                     row.golombek_k,
                     row.mode,
                     if mission.goal_reached { "yes" } else { "no" },
                     mission.executed_path_m,
+                    fmt_opt(mission.full_knowledge_path_m),
                     mission.replans,
                     mission.node_expansions,
                     mission.mission_time_s,
@@ -325,6 +327,8 @@ fn print_table(rows: &[CompareRow]) {
         .collect();
     let path_ratio = mean(pairs.iter().map(|(c, _)| c.executed_path_m))
         .zip(mean(pairs.iter().map(|(_, r)| r.executed_path_m)));
+    // The most scouting could save: the planner's path with every rock known from the start.
+    let best_m = mean(pairs.iter().filter_map(|(_, r)| r.full_knowledge_path_m));
     let replan_ratio = mean(pairs.iter().map(|(c, _)| c.replans as f64))
         .zip(mean(pairs.iter().map(|(_, r)| r.replans as f64)));
     if let (Some((cooperative_m, rover_m)), Some((cooperative_replans, rover_replans))) =
@@ -341,6 +345,15 @@ fn print_table(rows: &[CompareRow]) {
                 0.0
             }
         );
+        if let Some(best_m) = best_m {
+            let _ = writeln!(
+                out,
+                "  over the same seeds: full-knowledge path {best_m:.1} m (every rock known from the start); rover-only drove {:+.1} %, cooperative {:+.1} % more; at most {:.1} % shorter is possible",
+                100.0 * (rover_m / best_m.max(1e-9) - 1.0),
+                100.0 * (cooperative_m / best_m.max(1e-9) - 1.0),
+                100.0 * (1.0 - best_m / rover_m.max(1e-9))
+            );
+        }
     } else {
         let _ = writeln!(
             out,
@@ -355,18 +368,21 @@ fn fmt_opt(value: Option<f64>) -> String {
 
 fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
     let mut csv = String::from(
-        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,replans,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
+        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,replans,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
     );
     for row in rows {
         let mission = row.mission.as_ref();
         csv.push_str(&format!(
-            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.seed,
             row.golombek_k,
             row.mode,
             row.runtime_ok,
             mission.is_some_and(|m| m.goal_reached),
             mission.map_or(String::new(), |m| format!("{:.3}", m.executed_path_m)),
+            mission
+                .and_then(|m| m.full_knowledge_path_m)
+                .map_or(String::new(), |m| format!("{m:.3}")),
             mission.map_or(String::new(), |m| m.replans.to_string()),
             mission.map_or(String::new(), |m| m.node_expansions.to_string()),
             mission.map_or(String::new(), |m| format!("{:.2}", m.mission_time_s)),

@@ -10,6 +10,7 @@ mod child;
 mod error;
 pub mod fault_injector;
 mod frame_loop;
+pub mod full_knowledge;
 mod janitor;
 mod launch;
 pub mod map_accuracy;

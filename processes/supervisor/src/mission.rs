@@ -13,6 +13,7 @@ use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
 use iceoryx2::node::Node;
 
+use crate::full_knowledge::{FullKnowledgePath, full_knowledge_path};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::mission_report::MissionReport;
 use crate::vo_accuracy::VoTrack;
@@ -51,6 +52,8 @@ pub struct MissionObserver {
     world: hopnav_world::WorldConfig,
     traversable_height_m: f64,
     climbable_height_m: f64,
+    /// The mapper's grid and inflation, for the full-knowledge path (`None` when invalid).
+    mapper: Option<hopnav_mapper::config::MapperConfig>,
     start_m: Option<[f64; 2]>,
     goal_m: Option<[f64; 2]>,
     truth: Subscriber<BodyStates>,
@@ -107,6 +110,7 @@ impl MissionObserver {
                 &["rover", "max_climbable_height_m"],
                 DEFAULT_CLIMBABLE_HEIGHT_M,
             ),
+            mapper: hopnav_mapper::process::mapper_section(config).ok(),
             world,
             truth: Subscriber::open(node, &topics::BODY_STATES).ok()?,
             jumper_poses: Subscriber::open(node, &topics::JUMPER_POSE).ok()?,
@@ -242,6 +246,7 @@ impl MissionObserver {
                 .filter(|cell| cell.class == class)
                 .count()
         };
+        let rocks = self.truth_rocks();
         MissionReport {
             mode: self.mode.name().to_owned(),
             goal_reached: self.reached_at_s.is_some(),
@@ -258,7 +263,11 @@ impl MissionObserver {
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
             inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
-            map_accuracy: self.map_accuracy(),
+            map_accuracy: rocks.as_deref().and_then(|rocks| self.map_accuracy(rocks)),
+            full_knowledge_path_m: rocks
+                .as_deref()
+                .and_then(|rocks| self.full_knowledge_path(rocks))
+                .map(|path| path.length_m),
             vo: [
                 self.jumper_vo.accuracy("jumper"),
                 self.rover_vo.accuracy("rover"),
@@ -274,20 +283,54 @@ impl MissionObserver {
         [("jumper", &self.jumper_vo), ("rover", &self.rover_vo)]
     }
 
-    /// The final map's obstacles against the world's rocks; `None` without a map or when the
-    /// world cannot be regenerated.
-    fn map_accuracy(&self) -> Option<MapAccuracy> {
-        let geometry = self.geometry?;
+    /// The world's rocks, regenerated from the config; `None` when it cannot be.
+    fn truth_rocks(&self) -> Option<Vec<RockFootprint>> {
         let world = hopnav_world::World::generate(&self.world).ok()?;
-        let rocks: Vec<RockFootprint> = world
-            .rocks()
-            .iter()
-            .map(|rock| RockFootprint {
-                center_m: [rock.center_m[0], rock.center_m[1]],
-                radius_m: rock.bounding_radius_m(),
-                height_m: rock.height_m,
-            })
-            .collect();
+        Some(
+            world
+                .rocks()
+                .iter()
+                .map(|rock| RockFootprint {
+                    center_m: [rock.center_m[0], rock.center_m[1]],
+                    radius_m: rock.bounding_radius_m(),
+                    height_m: rock.height_m,
+                })
+                .collect(),
+        )
+    }
+
+    /// The planner's path from A to B had it known from the start every rock the rover
+    /// cannot climb.
+    fn full_knowledge_path(&self, rocks: &[RockFootprint]) -> Option<FullKnowledgePath> {
+        let mapper = self.mapper.as_ref()?;
+        let grid = hopnav_mapper::process::grid_geometry(mapper).ok()?;
+        let geometry = hopnav_planner::mission::MapGeometry::new(
+            grid.origin_x_m,
+            grid.origin_y_m,
+            grid.cell_size_m,
+            grid.width_cells,
+            grid.height_cells,
+        )
+        .ok()?;
+        let kernel = hopnav_mapper::inflation::inflation_kernel(
+            grid.cell_size_m,
+            mapper.inflation_radius_m,
+            mapper.lethal_radius_m,
+            mapper.inflation_max_cost,
+        );
+        full_knowledge_path(
+            rocks,
+            self.climbable_height_m,
+            &geometry,
+            &kernel,
+            self.start_m?,
+            self.goal_m?,
+        )
+    }
+
+    /// The final map's obstacles against the world's rocks; `None` without a map.
+    fn map_accuracy(&self, rocks: &[RockFootprint]) -> Option<MapAccuracy> {
+        let geometry = self.geometry?;
         let rover_bit = 1u32 << Robot::Rover.code();
         let jumper_bit = 1u32 << Robot::Jumper.code();
         let size_m = geometry.cell_size_m;
@@ -306,7 +349,7 @@ impl MissionObserver {
             .collect();
         let track_m: Vec<[f64; 2]> = self.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
         Some(map_accuracy::evaluate(
-            &rocks,
+            rocks,
             &cells,
             &track_m,
             size_m,

@@ -37,6 +37,10 @@ pub struct MissionReport {
     pub obstacle_cells: usize,
     /// Of them, inflated.
     pub inflated_cells: usize,
+    /// Length of the path the planner would have driven knowing every rock from the start,
+    /// metres (evaluation only: the most any scouting could shorten the drive to).
+    #[serde(default)]
+    pub full_knowledge_path_m: Option<f64>,
     /// Obstacle cells against the world's rocks (evaluation only).
     pub map_accuracy: Option<crate::map_accuracy::MapAccuracy>,
     /// Each robot's VO against the truth of the same frames (evaluation only).
@@ -80,6 +84,13 @@ impl MissionReport {
                 accuracy.false_by_both,
                 accuracy.blocking_rocks_found,
                 accuracy.blocking_rocks_near_track
+            )?;
+        }
+        if let Some(best_m) = self.full_knowledge_path_m {
+            writeln!(
+                out,
+                "full-knowledge path (every rock known from the start): {best_m:.1} m; the rover drove {:+.1} % more",
+                100.0 * (self.executed_path_m / best_m.max(1e-9) - 1.0)
             )?;
         }
         for vo in &self.vo {

@@ -29,6 +29,7 @@ pub use bumper::{Bumper, BumperEvent, RoverPose};
 pub use config::{NavigatorConfig, ScoutConfig};
 pub use geometry::{GeometryError, MapGeometry};
 pub use navigator::{
-    Decision, MapChange, MissionStatus, NavigationError, Navigator, NavigatorCounters,
+    DOUBTFUL_OBSTACLE_COST, Decision, MapChange, MissionStatus, NavigationError, Navigator,
+    NavigatorCounters,
 };
 pub use scout::{ScoutDecision, find_region_of_interest};

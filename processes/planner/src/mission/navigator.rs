@@ -115,7 +115,7 @@ const GOAL_IN_OBSTACLE_EXTRA_COST: u32 = 5000;
 /// planner units (1000 = one cell): the rover detours up to 100 cells (50 m) to avoid one, so
 /// relaxed cells elsewhere on the map are used only where nothing else leads on (at 8 cells,
 /// routes squeezed through lethal margins between rocks and hit them).
-const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
+pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;

@@ -1,0 +1,254 @@
+//! The path the planner would drive if every rock were known from the start (evaluation
+//! only): the lower bound on what any scout can save the rover. It answers "how much longer
+//! than necessary was the path" without guessing: rover-only missions that already drive
+//! close to this length leave a jumper little to shorten.
+//!
+//! The known map is built as the mapper would build it from perfect clouds of the rocks the
+//! rover cannot climb: every cell such a rock reaches is an obstacle, inflated with the
+//! mapper's kernel. Lethal margins are obstacles too, unless they alone cut A off B: then,
+//! as the navigator does, they are planned through at its doubtful-obstacle cost. A* plans
+//! on it with the planner's costs; the length is that of the cell path pulled taut (a
+//! straight segment wherever every cell it crosses is traversable), as pure pursuit drives.
+
+use hopnav_mapper::inflation::KernelEntry;
+use hopnav_planner::astar::astar;
+use hopnav_planner::mission::{DOUBTFUL_OBSTACLE_COST, MapGeometry};
+use hopnav_planner::{Cell, CellState, Grid};
+
+use crate::map_accuracy::RockFootprint;
+
+/// The full-knowledge plan of one mission.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FullKnowledgePath {
+    /// Length from A to B along the taut path, metres.
+    pub length_m: f64,
+    /// Obstacle cells of the known map (lethal margins included).
+    pub obstacle_cells: usize,
+}
+
+/// Plans from `start_m` to `goal_m` on the map of `rocks` taller than
+/// `min_obstacle_height_m`. `None` when A or B lies outside the grid or no path exists.
+pub fn full_knowledge_path(
+    rocks: &[RockFootprint],
+    min_obstacle_height_m: f64,
+    geometry: &MapGeometry,
+    kernel: &[KernelEntry],
+    start_m: [f64; 2],
+    goal_m: [f64; 2],
+) -> Option<FullKnowledgePath> {
+    let (width, height) = (geometry.width_cells(), geometry.height_cells());
+    let mut grid = Grid::new(width, height, CellState::Free).ok()?;
+    let mut rock = vec![false; grid.cell_count()];
+    let mut lethal = vec![false; grid.cell_count()];
+    let mut extra_cost = vec![0u32; grid.cell_count()];
+    for cell in rock_cells(rocks, min_obstacle_height_m, geometry) {
+        rock[cell.y as usize * width as usize + cell.x as usize] = true;
+        for entry in kernel {
+            let (x, y) = (
+                i64::from(cell.x) + i64::from(entry.dx),
+                i64::from(cell.y) + i64::from(entry.dy),
+            );
+            if x < 0 || y < 0 || x >= i64::from(width) || y >= i64::from(height) {
+                continue;
+            }
+            let index = y as usize * width as usize + x as usize;
+            lethal[index] |= entry.lethal;
+            extra_cost[index] = extra_cost[index].max(entry.cost);
+        }
+    }
+    let goal = geometry.cell_of(goal_m)?;
+    let start = geometry.cell_of(start_m)?;
+    let mut obstacle_cells = 0;
+    let mut plan = None;
+    for lethal_is_obstacle in [true, false] {
+        obstacle_cells = 0;
+        for index in 0..grid.cell_count() {
+            let cell = grid.cell_at(index)?;
+            // A and B stay open, as the navigator keeps them (the scenario clears rocks there).
+            let open = cell == start || cell == goal;
+            if !open && (rock[index] || (lethal_is_obstacle && lethal[index])) {
+                obstacle_cells += 1;
+                grid.set(cell, CellState::Obstacle, 0).ok()?;
+            } else if !open && lethal[index] {
+                grid.set(cell, CellState::Free, DOUBTFUL_OBSTACLE_COST)
+                    .ok()?;
+            } else {
+                grid.set(cell, CellState::Free, extra_cost[index]).ok()?;
+            }
+        }
+        plan = astar(&grid, start, goal).ok();
+        if plan.is_some() {
+            break;
+        }
+    }
+    Some(FullKnowledgePath {
+        length_m: taut_length_m(&grid, geometry, &plan?.path, start_m, goal_m),
+        obstacle_cells,
+    })
+}
+
+/// Cells whose square a rock taller than `min_height_m` reaches.
+fn rock_cells(rocks: &[RockFootprint], min_height_m: f64, geometry: &MapGeometry) -> Vec<Cell> {
+    let size_m = geometry.cell_size_m();
+    let half_m = 0.5 * size_m;
+    let mut cells = Vec::new();
+    for rock in rocks.iter().filter(|rock| rock.height_m > min_height_m) {
+        let reach = (rock.radius_m / size_m).ceil() as i64 + 1;
+        let Some(centre) = geometry.cell_of(rock.center_m) else {
+            continue;
+        };
+        for dy in -reach..=reach {
+            for dx in -reach..=reach {
+                let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
+                if x < 0 || y < 0 || x >= i64::from(u32::MAX) || y >= i64::from(u32::MAX) {
+                    continue;
+                }
+                let cell = Cell::new(x as u32, y as u32);
+                if geometry.cell_of(geometry.center_of(cell)) != Some(cell) {
+                    continue;
+                }
+                let centre_m = geometry.center_of(cell);
+                let gap_x = ((rock.center_m[0] - centre_m[0]).abs() - half_m).max(0.0);
+                let gap_y = ((rock.center_m[1] - centre_m[1]).abs() - half_m).max(0.0);
+                if gap_x.hypot(gap_y) < rock.radius_m {
+                    cells.push(cell);
+                }
+            }
+        }
+    }
+    cells
+}
+
+/// Length of `path` pulled taut: from each point, straight to the farthest later path point
+/// the segment to which stays on traversable cells; A and B are the real points.
+fn taut_length_m(
+    grid: &Grid,
+    geometry: &MapGeometry,
+    path: &[Cell],
+    start_m: [f64; 2],
+    goal_m: [f64; 2],
+) -> f64 {
+    let mut points: Vec<[f64; 2]> = path.iter().map(|&cell| geometry.center_of(cell)).collect();
+    if let Some(first) = points.first_mut() {
+        *first = start_m;
+    }
+    if let Some(last) = points.last_mut() {
+        *last = goal_m;
+    }
+    let mut length_m = 0.0;
+    let mut from = 0;
+    while from + 1 < points.len() {
+        let to = (from + 1..points.len())
+            .rev()
+            .find(|&to| segment_is_clear(grid, geometry, points[from], points[to]))
+            .unwrap_or(from + 1);
+        length_m += distance_m(points[from], points[to]);
+        from = to;
+    }
+    length_m
+}
+
+/// Every point of the segment, sampled at a quarter cell, lies in a traversable cell.
+fn segment_is_clear(grid: &Grid, geometry: &MapGeometry, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
+    let step_m = 0.25 * geometry.cell_size_m();
+    let samples = (distance_m(from_m, to_m) / step_m).ceil().max(1.0) as usize;
+    (0..=samples).all(|sample| {
+        let t = sample as f64 / samples as f64;
+        let point_m = [
+            from_m[0] + t * (to_m[0] - from_m[0]),
+            from_m[1] + t * (to_m[1] - from_m[1]),
+        ];
+        geometry
+            .cell_of(point_m)
+            .is_some_and(|cell| grid.is_traversable(cell))
+    })
+}
+
+fn distance_m(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use hopnav_mapper::inflation::inflation_kernel;
+
+    use super::*;
+
+    fn geometry() -> MapGeometry {
+        MapGeometry::new(-10.0, -10.0, 0.5, 40, 40).unwrap()
+    }
+
+    fn rock(x_m: f64, y_m: f64, radius_m: f64, height_m: f64) -> RockFootprint {
+        RockFootprint {
+            center_m: [x_m, y_m],
+            radius_m,
+            height_m,
+        }
+    }
+
+    #[test]
+    fn an_empty_field_is_crossed_in_a_straight_line() {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        let path =
+            full_knowledge_path(&[], 0.15, &geometry(), &kernel, [-8.0, 0.3], [8.0, 1.9]).unwrap();
+        let straight_m = 16.0f64.hypot(1.6);
+        assert!((path.length_m - straight_m).abs() < 1e-9, "{path:?}");
+        assert_eq!(path.obstacle_cells, 0);
+    }
+
+    #[test]
+    fn a_wall_of_tall_rocks_is_driven_around_and_low_rocks_are_ignored() {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        // A wall across y from -6 to 6 at x = 0; the way round is past y = ±6.
+        let wall: Vec<RockFootprint> = (0..=24)
+            .map(|i| rock(0.0, -6.0 + 0.5 * f64::from(i), 0.3, 0.4))
+            .collect();
+        let path = full_knowledge_path(&wall, 0.15, &geometry(), &kernel, [-8.0, 0.0], [8.0, 0.0])
+            .unwrap();
+        assert!(path.length_m > 2.0 * 8.0f64.hypot(6.0), "{path:?}");
+        assert!(path.obstacle_cells > 25);
+        let low: Vec<RockFootprint> = wall
+            .iter()
+            .map(|r| rock(r.center_m[0], r.center_m[1], 0.3, 0.1))
+            .collect();
+        let flat =
+            full_knowledge_path(&low, 0.15, &geometry(), &kernel, [-8.0, 0.0], [8.0, 0.0]).unwrap();
+        assert!((flat.length_m - 16.0).abs() < 1e-9, "{flat:?}");
+    }
+
+    #[test]
+    fn a_gap_closed_only_by_lethal_margins_is_planned_through() {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        // A wall across the whole grid at x = 0 with a 1 m gap at y = 0: the rocks leave the
+        // gap open, their lethal margins close it.
+        let wall: Vec<RockFootprint> = (0..=40)
+            .map(|i| -10.0 + 0.5 * f64::from(i))
+            .filter(|y_m: &f64| y_m.abs() > 0.9)
+            .map(|y_m| rock(0.25, y_m, 0.2, 0.4))
+            .collect();
+        let path =
+            full_knowledge_path(&wall, 0.15, &geometry(), &kernel, [-8.0, 0.25], [8.0, 0.25])
+                .unwrap();
+        assert!((path.length_m - 16.0).abs() < 1e-9, "{path:?}");
+    }
+
+    #[test]
+    fn a_goal_walled_in_has_no_full_knowledge_path() {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        let ring: Vec<RockFootprint> = (0..64)
+            .map(|i| {
+                let angle = f64::from(i) * std::f64::consts::TAU / 64.0;
+                rock(5.0 + 3.0 * angle.cos(), 3.0 * angle.sin(), 0.3, 0.5)
+            })
+            .collect();
+        assert_eq!(
+            full_knowledge_path(&ring, 0.15, &geometry(), &kernel, [-8.0, 0.0], [5.0, 0.0]),
+            None
+        );
+        assert_eq!(
+            full_knowledge_path(&[], 0.15, &geometry(), &kernel, [-80.0, 0.0], [5.0, 0.0]),
+            None,
+            "A outside the grid"
+        );
+    }
+}

@@ -82,7 +82,7 @@ impl Default for ScoutConfig {
             hop_range_m: 20.0,
             min_hop_m: 6.0,
             min_interval_s: 10.0,
-            max_requests: 8,
+            max_requests: 20,
         }
     }
 }

@@ -120,8 +120,9 @@ pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;
 
-/// Bumped cells remembered (a bounded list: a mission bumps a handful).
-const MAX_BUMPED_CELLS: usize = 256;
+/// Bumped cells remembered (a bounded list: a mission bumps a handful of times, nine cells
+/// each).
+const MAX_BUMPED_CELLS: usize = 1024;
 
 /// The rover's navigator.
 pub struct Navigator {
@@ -442,14 +443,38 @@ impl Navigator {
     }
 
     /// The rover is stuck against something at `obstacle_m` the map does not show: mark its
-    /// cell as an obstacle so the next search goes around it (never the goal or the rover's
-    /// own cell). True when a new cell was marked.
+    /// cell as an obstacle, and the ring of cells around it, so the next search keeps the
+    /// rover's body clear of it as the mapper's lethal margin would (a path one cell over
+    /// brushed the same rock again: the rover is 0.7 m wide). Never the goal or the rover's
+    /// own cell. True when the centre cell was newly marked.
     fn mark_bumped(&mut self, obstacle_m: [f64; 2], rover_cell: Cell) -> bool {
-        let Some(cell) = self.geometry.cell_of(obstacle_m) else {
+        let Some(centre) = self.geometry.cell_of(obstacle_m) else {
             return false;
         };
+        if !self.mark_bumped_cell(centre, rover_cell) {
+            return false;
+        }
+        for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
+            if x < 0 || y < 0 || x > i64::from(u32::MAX) || y > i64::from(u32::MAX) {
+                continue;
+            }
+            let cell = Cell::new(x as u32, y as u32);
+            if self.planner.grid().contains(cell) {
+                self.mark_bumped_cell(cell, rover_cell);
+            }
+        }
+        self.counters.blocked_marks += 1;
+        true
+    }
+
+    /// Marks one cell as bumped (remembering the mapper's view of it, so that the mark can
+    /// be forgotten); false for the goal, the rover's cell, a cell already marked, or when the
+    /// list of bumped cells is full.
+    fn mark_bumped_cell(&mut self, cell: Cell, rover_cell: Cell) -> bool {
         if cell == self.planner.goal()
             || cell == rover_cell
+            || self.bumped.len() >= MAX_BUMPED_CELLS
             || self.bumped.iter().any(|bumped| bumped.cell == cell)
         {
             return false;
@@ -462,10 +487,7 @@ impl Navigator {
         );
         self.pending
             .push(CellChange::new(cell, CellState::Obstacle, 0));
-        if self.bumped.len() < MAX_BUMPED_CELLS {
-            self.bumped.push(BumpedCell { cell, mapper });
-        }
-        self.counters.blocked_marks += 1;
+        self.bumped.push(BumpedCell { cell, mapper });
         true
     }
 

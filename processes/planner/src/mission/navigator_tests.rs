@@ -249,6 +249,10 @@ fn a_rover_stuck_on_an_unmapped_rock_backs_off_marks_it_and_goes_around() {
     assert!(reversed, "it backed off");
     assert!(navigator.counters().blocked_marks >= 1);
     assert_eq!(navigator.grid().state(rock), Some(CellState::Obstacle));
+    // The ring around the bumped cell is marked too: the next path keeps the body clear.
+    for side in [Cell::new(rock.x, rock.y - 1), Cell::new(rock.x, rock.y + 1)] {
+        assert_eq!(navigator.grid().state(side), Some(CellState::Obstacle));
+    }
 }
 
 #[test]

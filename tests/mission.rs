@@ -33,6 +33,15 @@ fn the_default_cooperative_mission_reaches_the_goal() {
     assert!(mission["node_expansions"].as_u64().unwrap() > 0);
     // Both robots mapped: the map holds cells seen by each.
     assert!(mission["mapped_cells"].as_u64().unwrap() > 100, "{mission}");
+    // The full-knowledge path of the same world: no shorter than the straight A–B line.
+    let best_m = mission["full_knowledge_path_m"]
+        .as_f64()
+        .expect("full-knowledge path");
+    let straight_m = mission["straight_line_m"].as_f64().unwrap();
+    assert!(
+        best_m >= straight_m - 1e-6 && best_m < 1.5 * straight_m,
+        "{mission}"
+    );
     // Every process of the graph ran every frame.
     for name in [
         "physics",

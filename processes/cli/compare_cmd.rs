@@ -348,7 +348,7 @@ fn print_table(rows: &[CompareRow]) {
         if let Some(best_m) = best_m {
             let _ = writeln!(
                 out,
-                "  over the same seeds: full-knowledge path {best_m:.1} m (every rock known from the start); rover-only drove {:+.1} %, cooperative {:+.1} % more; at most {:.1} % shorter is possible",
+                "  over the same seeds: full-knowledge path {best_m:.1} m (the planner's path with every rock known from the start); rover-only drove {:+.1} %, cooperative {:+.1} % more; a scout revealing every rock would shorten rover-only's path by about {:.1} %",
                 100.0 * (rover_m / best_m.max(1e-9) - 1.0),
                 100.0 * (cooperative_m / best_m.max(1e-9) - 1.0),
                 100.0 * (1.0 - best_m / rover_m.max(1e-9))

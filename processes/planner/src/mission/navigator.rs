@@ -454,7 +454,16 @@ impl Navigator {
         if !self.mark_bumped_cell(centre, rover_cell) {
             return false;
         }
-        for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+        for (dx, dy) in [
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+            (-1, 0),
+            (1, 0),
+            (-1, 1),
+            (0, 1),
+            (1, 1),
+        ] {
             let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
             if x < 0 || y < 0 || x > i64::from(u32::MAX) || y > i64::from(u32::MAX) {
                 continue;

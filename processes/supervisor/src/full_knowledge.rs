@@ -140,28 +140,12 @@ fn taut_length_m(
     while from + 1 < points.len() {
         let to = (from + 1..points.len())
             .rev()
-            .find(|&to| segment_is_clear(grid, geometry, points[from], points[to]))
+            .find(|&to| geometry.segment_is_clear(grid, points[from], points[to]))
             .unwrap_or(from + 1);
         length_m += distance_m(points[from], points[to]);
         from = to;
     }
     length_m
-}
-
-/// Every point of the segment, sampled at a quarter cell, lies in a traversable cell.
-fn segment_is_clear(grid: &Grid, geometry: &MapGeometry, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
-    let step_m = 0.25 * geometry.cell_size_m();
-    let samples = (distance_m(from_m, to_m) / step_m).ceil().max(1.0) as usize;
-    (0..=samples).all(|sample| {
-        let t = sample as f64 / samples as f64;
-        let point_m = [
-            from_m[0] + t * (to_m[0] - from_m[0]),
-            from_m[1] + t * (to_m[1] - from_m[1]),
-        ];
-        geometry
-            .cell_of(point_m)
-            .is_some_and(|cell| grid.is_traversable(cell))
-    })
 }
 
 fn distance_m(a: [f64; 2], b: [f64; 2]) -> f64 {

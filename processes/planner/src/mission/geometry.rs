@@ -1,7 +1,7 @@
 //! World metres ↔ grid cells. The grid's cell (0, 0) has its lower corner at the origin; x
 //! grows with the column, y with the row.
 
-use crate::grid::Cell;
+use crate::grid::{Cell, Grid};
 
 /// Why a grid geometry is invalid.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -116,6 +116,23 @@ impl MapGeometry {
             self.origin_x_m + (f64::from(cell.x) + 0.5) * self.cell_size_m,
             self.origin_y_m + (f64::from(cell.y) + 0.5) * self.cell_size_m,
         ]
+    }
+
+    /// True when every point of the segment (sampled at a quarter cell) lies in a traversable
+    /// cell of `grid`: a straight drive from `from_m` to `to_m` crosses no obstacle cell.
+    pub fn segment_is_clear(&self, grid: &Grid, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
+        let step_m = 0.25 * self.cell_size_m;
+        let length_m = (to_m[0] - from_m[0]).hypot(to_m[1] - from_m[1]);
+        let samples = (length_m / step_m).ceil().max(1.0) as usize;
+        (0..=samples).all(|sample| {
+            let t = sample as f64 / samples as f64;
+            let point_m = [
+                from_m[0] + t * (to_m[0] - from_m[0]),
+                from_m[1] + t * (to_m[1] - from_m[1]),
+            ];
+            self.cell_of(point_m)
+                .is_some_and(|cell| grid.is_traversable(cell))
+        })
     }
 }
 

@@ -567,26 +567,11 @@ impl Navigator {
         (1..=index)
             .rev()
             .map(|candidate| self.geometry.center_of(self.path[candidate]))
-            .find(|&target_m| self.segment_is_clear(rover_m, target_m))
+            .find(|&target_m| {
+                self.geometry
+                    .segment_is_clear(self.planner.grid(), rover_m, target_m)
+            })
             .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
-    }
-
-    /// True when every point of the segment (sampled at a quarter cell) lies in a traversable
-    /// cell of the map.
-    fn segment_is_clear(&self, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
-        let grid = self.planner.grid();
-        let step_m = 0.25 * self.geometry.cell_size_m();
-        let samples = (distance_m(from_m, to_m) / step_m).ceil().max(1.0) as usize;
-        (0..=samples).all(|sample| {
-            let t = sample as f64 / samples as f64;
-            let point_m = [
-                from_m[0] + t * (to_m[0] - from_m[0]),
-                from_m[1] + t * (to_m[1] - from_m[1]),
-            ];
-            self.geometry
-                .cell_of(point_m)
-                .is_some_and(|cell| grid.is_traversable(cell))
-        })
     }
 
     /// `cell` if traversable, else the traversable cell within three rings whose centre is

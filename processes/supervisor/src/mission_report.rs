@@ -87,10 +87,18 @@ impl MissionReport {
             )?;
         }
         if let Some(best_m) = self.full_knowledge_path_m {
+            // The comparison means something only for a drive that got to B.
+            let comparison = if self.goal_reached {
+                format!(
+                    "; the rover drove {:+.1} % more",
+                    100.0 * (self.executed_path_m / best_m.max(1e-9) - 1.0)
+                )
+            } else {
+                String::new()
+            };
             writeln!(
                 out,
-                "full-knowledge path (every rock known from the start): {best_m:.1} m; the rover drove {:+.1} % more",
-                100.0 * (self.executed_path_m / best_m.max(1e-9) - 1.0)
+                "full-knowledge path (every rock known from the start): {best_m:.1} m{comparison}"
             )?;
         }
         for vo in &self.vo {

@@ -83,10 +83,7 @@ pub fn octile_distance(a: Cell, b: Cell) -> Cost {
 
 /// The cell one `step` away from `cell`, or `None` outside the grid.
 pub fn neighbour(grid: &Grid, cell: Cell, step: Move) -> Option<Cell> {
-    let x = cell.x.checked_add_signed(step.dx)?;
-    let y = cell.y.checked_add_signed(step.dy)?;
-    let next = Cell::new(x, y);
-    grid.contains(next).then_some(next)
+    grid.offset(cell, step.dx, step.dy)
 }
 
 /// The target and cost of moving from `from` by `step`, or `None` when the move is not

@@ -162,6 +162,15 @@ impl Grid {
         cell.x < self.width && cell.y < self.height
     }
 
+    /// The cell `dx` columns and `dy` rows from `cell`, or `None` outside the grid.
+    pub fn offset(&self, cell: Cell, dx: i32, dy: i32) -> Option<Cell> {
+        let moved = Cell::new(
+            cell.x.checked_add_signed(dx)?,
+            cell.y.checked_add_signed(dy)?,
+        );
+        self.contains(moved).then_some(moved)
+    }
+
     /// Row-major index of `cell`, or `None` outside the grid.
     pub fn index_of(&self, cell: Cell) -> Option<usize> {
         self.contains(cell)

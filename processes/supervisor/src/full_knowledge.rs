@@ -15,7 +15,7 @@ use hopnav_planner::astar::astar;
 use hopnav_planner::mission::{DOUBTFUL_OBSTACLE_COST, MapGeometry};
 use hopnav_planner::{Cell, CellState, Grid};
 
-use crate::map_accuracy::RockFootprint;
+use crate::map_accuracy::{RockFootprint, distance_to_square_m};
 
 /// The full-knowledge plan of one mission.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,22 +36,26 @@ pub fn full_knowledge_path(
     start_m: [f64; 2],
     goal_m: [f64; 2],
 ) -> Option<FullKnowledgePath> {
-    let (width, height) = (geometry.width_cells(), geometry.height_cells());
-    let mut grid = Grid::new(width, height, CellState::Free).ok()?;
+    let mut grid = Grid::new(
+        geometry.width_cells(),
+        geometry.height_cells(),
+        CellState::Free,
+    )
+    .ok()?;
     let mut rock = vec![false; grid.cell_count()];
     let mut lethal = vec![false; grid.cell_count()];
     let mut extra_cost = vec![0u32; grid.cell_count()];
-    for cell in rock_cells(rocks, min_obstacle_height_m, geometry) {
-        rock[cell.y as usize * width as usize + cell.x as usize] = true;
+    for cell in rock_cells(rocks, min_obstacle_height_m, geometry, &grid) {
+        if let Some(index) = grid.index_of(cell) {
+            rock[index] = true;
+        }
         for entry in kernel {
-            let (x, y) = (
-                i64::from(cell.x) + i64::from(entry.dx),
-                i64::from(cell.y) + i64::from(entry.dy),
-            );
-            if x < 0 || y < 0 || x >= i64::from(width) || y >= i64::from(height) {
+            let Some(index) = grid
+                .offset(cell, entry.dx, entry.dy)
+                .and_then(|near| grid.index_of(near))
+            else {
                 continue;
-            }
-            let index = y as usize * width as usize + x as usize;
+            };
             lethal[index] |= entry.lethal;
             extra_cost[index] = extra_cost[index].max(entry.cost);
         }
@@ -87,30 +91,27 @@ pub fn full_knowledge_path(
     })
 }
 
-/// Cells whose square a rock taller than `min_height_m` reaches.
-fn rock_cells(rocks: &[RockFootprint], min_height_m: f64, geometry: &MapGeometry) -> Vec<Cell> {
+/// Cells of `grid` whose square a rock taller than `min_height_m` reaches.
+fn rock_cells(
+    rocks: &[RockFootprint],
+    min_height_m: f64,
+    geometry: &MapGeometry,
+    grid: &Grid,
+) -> Vec<Cell> {
     let size_m = geometry.cell_size_m();
-    let half_m = 0.5 * size_m;
     let mut cells = Vec::new();
     for rock in rocks.iter().filter(|rock| rock.height_m > min_height_m) {
-        let reach = (rock.radius_m / size_m).ceil() as i64 + 1;
         let Some(centre) = geometry.cell_of(rock.center_m) else {
             continue;
         };
+        let reach = (rock.radius_m / size_m).ceil() as i32 + 1;
         for dy in -reach..=reach {
             for dx in -reach..=reach {
-                let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
-                if x < 0 || y < 0 || x >= i64::from(u32::MAX) || y >= i64::from(u32::MAX) {
+                let Some(cell) = grid.offset(centre, dx, dy) else {
                     continue;
-                }
-                let cell = Cell::new(x as u32, y as u32);
-                if geometry.cell_of(geometry.center_of(cell)) != Some(cell) {
-                    continue;
-                }
-                let centre_m = geometry.center_of(cell);
-                let gap_x = ((rock.center_m[0] - centre_m[0]).abs() - half_m).max(0.0);
-                let gap_y = ((rock.center_m[1] - centre_m[1]).abs() - half_m).max(0.0);
-                if gap_x.hypot(gap_y) < rock.radius_m {
+                };
+                let gap_m = distance_to_square_m(geometry.center_of(cell), size_m, rock.center_m);
+                if gap_m < rock.radius_m {
                     cells.push(cell);
                 }
             }

@@ -70,6 +70,15 @@ impl MapAccuracy {
     }
 }
 
+/// Distance from `point_m` to the square of side `size_m` centred on `center_m` (0 inside),
+/// metres.
+pub(crate) fn distance_to_square_m(center_m: [f64; 2], size_m: f64, point_m: [f64; 2]) -> f64 {
+    let half_m = 0.5 * size_m;
+    let dx = ((point_m[0] - center_m[0]).abs() - half_m).max(0.0);
+    let dy = ((point_m[1] - center_m[1]).abs() - half_m).max(0.0);
+    dx.hypot(dy)
+}
+
 /// Scores `cells` against `rocks`. Rocks lower than `min_rock_height_m` do not make a cell
 /// true; rocks taller than `blocking_height_m` are the ones recall counts.
 pub fn evaluate(
@@ -81,11 +90,8 @@ pub fn evaluate(
     blocking_height_m: f64,
 ) -> MapAccuracy {
     let half_cell_m = 0.5 * cell_size_m;
-    // Distance from a point to the cell's square, metres.
     let to_square = |cell: &ObstacleCell, point: [f64; 2]| {
-        let dx = ((point[0] - cell.center_m[0]).abs() - half_cell_m).max(0.0);
-        let dy = ((point[1] - cell.center_m[1]).abs() - half_cell_m).max(0.0);
-        dx.hypot(dy)
+        distance_to_square_m(cell.center_m, cell_size_m, point)
     };
     let mut accuracy = MapAccuracy::default();
     for cell in cells {

@@ -5,7 +5,7 @@ use super::bumper::{Bumper, BumperEvent, RoverPose};
 use super::config::NavigatorConfig;
 use super::geometry::MapGeometry;
 use super::scout::{self, ScoutDecision, distance_m};
-use crate::cost::{Cost, path_cost};
+use crate::cost::{Cost, MOVES, neighbour, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
 
@@ -454,22 +454,8 @@ impl Navigator {
         if !self.mark_bumped_cell(centre, rover_cell) {
             return false;
         }
-        for (dx, dy) in [
-            (-1, -1),
-            (0, -1),
-            (1, -1),
-            (-1, 0),
-            (1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ] {
-            let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
-            if x < 0 || y < 0 || x > i64::from(u32::MAX) || y > i64::from(u32::MAX) {
-                continue;
-            }
-            let cell = Cell::new(x as u32, y as u32);
-            if self.planner.grid().contains(cell) {
+        for step in MOVES {
+            if let Some(cell) = neighbour(self.planner.grid(), centre, step) {
                 self.mark_bumped_cell(cell, rover_cell);
             }
         }

@@ -12,14 +12,17 @@
 //! assert!((c.delta_z_m(0.0) + 0.8).abs() < 1e-12);
 //! ```
 
-use crate::config::CraterConfig;
+use crate::config::{CraterConfig, ScenarioConfig};
 use crate::rng::Rng;
+use crate::rocks::clear_of;
 use crate::terrain::Heightfield;
 
 /// Stream number of the crater placement.
 const CRATER_STREAM: u64 = 0x6372_6174_6572; // "crater"
 /// Apron radius over rim radius.
 const APRON_RATIO: f64 = 3.0;
+/// Placement attempts per crater before it is dropped.
+const PLACE_ATTEMPTS: usize = 64;
 
 /// One crater.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,25 +62,45 @@ impl Crater {
 }
 
 /// Places `cfg.count` craters uniformly over the heightfield (log-uniform diameters).
-pub fn sample_craters(seed: u64, cfg: &CraterConfig, hf: &Heightfield) -> Vec<Crater> {
+///
+/// A crater's rim keeps `scenario.clear_radius_m` away from the scenario points: a bowl
+/// walled at up to 39° around start A or goal B is a trap the rover can never leave (seed 14
+/// of the compare sweep started inside one). A crater with no clear spot in
+/// `PLACE_ATTEMPTS` draws is dropped.
+pub fn sample_craters(
+    seed: u64,
+    cfg: &CraterConfig,
+    scenario: &ScenarioConfig,
+    hf: &Heightfield,
+) -> Vec<Crater> {
     let mut rng = Rng::new(seed, CRATER_STREAM);
     let [ox, oy] = hf.origin_m();
     let [ex, ey] = hf.extent_m();
     let (lo, hi) = (cfg.diameter_min_m.ln(), cfg.diameter_max_m.ln());
-    (0..cfg.count)
-        .map(|_| {
-            let diameter_m = rng.uniform(lo, hi).exp();
-            let margin = (diameter_m / 2.0).min(ex.min(ey) / 2.0);
-            let x = ox + rng.uniform(margin, ex - margin);
-            let y = oy + rng.uniform(margin, ey - margin);
-            Crater {
-                center_m: [x, y],
+    let clear: Vec<[f64; 2]> = scenario.clear_points().collect();
+    let mut craters = Vec::with_capacity(cfg.count as usize);
+    for _ in 0..cfg.count {
+        let diameter_m = rng.uniform(lo, hi).exp();
+        let rim_radius_m = diameter_m / 2.0;
+        let margin = rim_radius_m.min(ex.min(ey) / 2.0);
+        let placed = (0..PLACE_ATTEMPTS)
+            .map(|_| {
+                [
+                    ox + rng.uniform(margin, ex - margin),
+                    oy + rng.uniform(margin, ey - margin),
+                ]
+            })
+            .find(|&xy| clear_of(&clear, scenario.clear_radius_m, xy, rim_radius_m));
+        if let Some(center_m) = placed {
+            craters.push(Crater {
+                center_m,
                 diameter_m,
                 depth_m: cfg.depth_ratio * diameter_m,
                 rim_height_m: cfg.rim_height_ratio * diameter_m,
-            }
-        })
-        .collect()
+            });
+        }
+    }
+    craters
 }
 
 /// Adds the craters to the heightfield, in order.

@@ -194,7 +194,8 @@ fn make_rock(
     }
 }
 
-fn clear_of(points: &[[f64; 2]], radius_m: f64, xy: [f64; 2], rock_r: f64) -> bool {
+/// True when a disc of radius `rock_r` at `xy` stays more than `radius_m` from every point.
+pub(crate) fn clear_of(points: &[[f64; 2]], radius_m: f64, xy: [f64; 2], rock_r: f64) -> bool {
     points.iter().all(|p| {
         let (dx, dy) = (p[0] - xy[0], p[1] - xy[1]);
         (dx * dx + dy * dy).sqrt() > radius_m + rock_r

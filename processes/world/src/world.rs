@@ -32,7 +32,7 @@ impl World {
     pub fn generate(config: &WorldConfig) -> Result<Self, WorldError> {
         config.validate()?;
         let mut terrain = Heightfield::from_relief(config.seed, &config.terrain);
-        let craters = sample_craters(config.seed, &config.craters, &terrain);
+        let craters = sample_craters(config.seed, &config.craters, &config.scenario, &terrain);
         apply_craters(&mut terrain, &craters);
         let rocks = generate_rocks(config.seed, &config.rocks, &config.scenario, &terrain);
         Ok(Self {

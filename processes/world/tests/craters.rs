@@ -33,3 +33,33 @@ fn crater_depth_is_a_fifth_of_the_diameter() {
     );
     assert!(far.abs() < 1e-9);
 }
+
+#[test]
+fn crater_rims_keep_clear_of_start_and_goal() {
+    let mut cfg = WorldConfig::default();
+    cfg.terrain.size_x_m = 30.0;
+    cfg.terrain.size_y_m = 12.0;
+    cfg.terrain.spacing_m = 0.1;
+    cfg.rocks.golombek_k = 0.0;
+    cfg.craters.count = 60;
+    cfg.craters.diameter_min_m = 3.0;
+    cfg.craters.diameter_max_m = 8.0;
+    cfg.scenario.start_m = Some([-10.0, 0.0]);
+    cfg.scenario.goal_m = Some([10.0, 0.0]);
+    cfg.scenario.clear_radius_m = 2.0;
+    let mut placed = 0;
+    for seed in 0..10 {
+        cfg.seed = seed;
+        let world = World::generate(&cfg).unwrap();
+        placed += world.craters().len();
+        for crater in world.craters() {
+            for point in [[-10.0, 0.0], [10.0, 0.0]] {
+                let (dx, dy) = (crater.center_m[0] - point[0], crater.center_m[1] - point[1]);
+                let gap_m = dx.hypot(dy) - crater.diameter_m / 2.0;
+                assert!(gap_m > 2.0, "seed {seed}: rim {gap_m} m from {point:?}");
+            }
+        }
+    }
+    // Most craters find a clear spot: the rule moves them, it does not empty the map.
+    assert!(placed > 10 * 60 * 3 / 4, "only {placed} craters placed");
+}

@@ -4,6 +4,8 @@
 //! A rover that neither moves nor turns while it is told to drive is against a rock its camera
 //! missed (a rock just above the climbable height, or one hidden below the camera's view).
 //! Turning counts as progress: a rover turning on the spot toward a new path is not stuck.
+//! Over a longer window only distance counts: a rover that turns back and forth on one spot
+//! (rocking between two waypoints) is going nowhere, and is treated as stuck too.
 //! Once stuck, it backs up rear first, because turning on the spot against a rock would sweep
 //! a corner of the chassis into it; the navigator marks the cell ahead as an obstacle. It
 //! backs up along its own recent track where it has one (those poses were drivable: straight
@@ -67,6 +69,8 @@ struct BumperConfig {
     stall_time_s: f64,
     stall_distance_m: f64,
     stall_yaw_rad: f64,
+    no_progress_time_s: f64,
+    no_progress_distance_m: f64,
     back_off_m: f64,
     back_off_timeout_s: f64,
     obstacle_reach_m: f64,
@@ -90,6 +94,8 @@ pub struct Bumper {
     config: BumperConfig,
     /// Pose and time of the last progress.
     anchor: Option<(RoverPose, f64)>,
+    /// Position and time of the last progress in distance alone.
+    distance_anchor: Option<([f64; 2], f64)>,
     backing_off: Option<BackOff>,
     stalls: u32,
     /// Back-offs in a row that timed out without getting anywhere; each new one tries the
@@ -107,11 +113,14 @@ impl Bumper {
                 stall_time_s: config.stall_time_s,
                 stall_distance_m: config.stall_distance_m,
                 stall_yaw_rad: config.stall_yaw_rad,
+                no_progress_time_s: config.no_progress_time_s,
+                no_progress_distance_m: config.no_progress_distance_m,
                 back_off_m: config.back_off_m,
                 back_off_timeout_s: config.back_off_timeout_s,
                 obstacle_reach_m: config.bump_reach_m,
             },
             anchor: None,
+            distance_anchor: None,
             backing_off: None,
             stalls: 0,
             failed_back_offs: 0,
@@ -143,7 +152,12 @@ impl Bumper {
         }
         if !driving {
             self.anchor = None;
+            self.distance_anchor = None;
             return BumperEvent::Clear;
+        }
+        if self.going_nowhere(pose.xy_m, time_s) {
+            self.stalls += 1;
+            return self.start_back_off(pose, time_s);
         }
         let Some((anchor, since_s)) = self.anchor else {
             self.anchor = Some((pose, time_s));
@@ -161,6 +175,26 @@ impl Bumper {
         }
         self.stalls += 1;
         self.start_back_off(pose, time_s)
+    }
+
+    /// True when the rover, told to drive, has stayed within `no_progress_distance_m` of one
+    /// spot for `no_progress_time_s` (the watch then starts over).
+    fn going_nowhere(&mut self, xy_m: [f64; 2], time_s: f64) -> bool {
+        match self.distance_anchor {
+            Some((from_m, since_s))
+                if distance_m(from_m, xy_m) < self.config.no_progress_distance_m =>
+            {
+                let stuck = time_s - since_s >= self.config.no_progress_time_s;
+                if stuck {
+                    self.distance_anchor = None;
+                }
+                stuck
+            }
+            _ => {
+                self.distance_anchor = Some((xy_m, time_s));
+                false
+            }
+        }
     }
 
     /// The rover, driving forward, tilted beyond what is safe at `time_s`: back off now, as
@@ -335,6 +369,34 @@ mod tests {
             waypoint[0].abs() < 1e-9 && waypoint[1] < 1.45 - 0.6,
             "{waypoint:?}"
         );
+    }
+
+    #[test]
+    fn rocking_on_one_spot_is_stuck_however_much_it_turns() {
+        let config = NavigatorConfig::default();
+        let mut bumper = Bumper::new(&config);
+        // Turning 0.9 rad back and forth every 2 s and creeping 3 cm to and fro: the turns
+        // pass the stall check, but the rover never gets anywhere.
+        let rocking = |frame: usize| {
+            let phase = (frame as f64 * 0.1 * std::f64::consts::PI).sin();
+            pose(0.03 * phase, 2.8 + 0.45 * phase)
+        };
+        let frames = (config.no_progress_time_s * 10.0) as usize + 20;
+        let event = run(&mut bumper, frames, rocking);
+        assert!(matches!(event, BumperEvent::Stuck { .. }), "{event:?}");
+        assert_eq!(bumper.stalls(), 1);
+    }
+
+    #[test]
+    fn a_slow_drive_with_long_turns_is_not_going_nowhere() {
+        let config = NavigatorConfig::default();
+        let mut bumper = Bumper::new(&config);
+        // 5 cm/s, turning all the while: slow, but 0.5 m every 10 s.
+        let event = run(&mut bumper, 600, |frame| {
+            pose(frame as f64 * 0.005, frame as f64 * 0.02)
+        });
+        assert_eq!(event, BumperEvent::Clear);
+        assert_eq!(bumper.stalls(), 0);
     }
 
     #[test]

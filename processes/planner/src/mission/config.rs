@@ -22,6 +22,13 @@ pub struct NavigatorConfig {
     pub stall_distance_m: f64,
     /// See `stall_time_s`, radians.
     pub stall_yaw_rad: f64,
+    /// The rover also counts as stuck when, told to drive, it got no further than
+    /// `no_progress_distance_m` from where it was this long ago, however much it turned: a
+    /// rover rocking between two waypoints, or creeping back and forth on one spot, turns
+    /// enough to pass the stall check forever (seed 13 spun in place for 245 s), seconds.
+    pub no_progress_time_s: f64,
+    /// See `no_progress_time_s`, metres.
+    pub no_progress_distance_m: f64,
     /// A stuck rover backs up this far, rear first, before it plans again, metres.
     pub back_off_m: f64,
     /// A back-off that makes no progress gives up after this long, seconds.
@@ -48,6 +55,8 @@ impl Default for NavigatorConfig {
             stall_time_s: 2.0,
             stall_distance_m: 0.1,
             stall_yaw_rad: 0.1,
+            no_progress_time_s: 15.0,
+            no_progress_distance_m: 0.5,
             back_off_m: 0.6,
             back_off_timeout_s: 5.0,
             bump_reach_m: 0.8,
@@ -90,8 +99,22 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 15] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 17] = [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
+            (
+                "no_progress_time_s",
+                self.no_progress_time_s,
+                1.0,
+                3600.0,
+                "1..=3600",
+            ),
+            (
+                "no_progress_distance_m",
+                self.no_progress_distance_m,
+                0.01,
+                10.0,
+                "0.01..=10",
+            ),
             ("stall_yaw_rad", self.stall_yaw_rad, 0.001, 3.0, "0.001..=3"),
             ("back_off_m", self.back_off_m, 0.0, 10.0, "0..=10"),
             (

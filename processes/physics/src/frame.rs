@@ -172,7 +172,8 @@ pub struct RoverStatus {
     pub collision_count: u32,
     /// Steering angle of each wheel (FL, FR, RL, RR), radians, 0 = straight ahead.
     pub steer_angles_rad: [f64; 4],
-    /// Ground speed of each wheel along its rolling direction, m/s.
+    /// Speed each wheel is driven at along its rolling direction, m/s (a blocked chassis
+    /// spins its wheels: this is not its ground speed).
     pub wheel_speeds_mps: [f64; 4],
     /// Commanded forward speed of the chassis, m/s.
     pub forward_speed_mps: f64,

@@ -346,9 +346,12 @@ impl Rover {
                         self.collisions += 1;
                         self.rock_contact = Some([self.xy_m[0], self.xy_m[1], self.yaw_rad]);
                     }
+                    // The chassis stays put, but the drive keeps its ramped rates, as motors
+                    // keep pushing: zeroing them made every move from a standstill start at
+                    // one substep of acceleration, and a turn that would swing a corner out of
+                    // a rock then moved it by less than SEPARATION_EPSILON_M, was refused,
+                    // and restarted from zero for good (compare seeds 3 and 13 wedged).
                     self.blocked = Some(b.reason());
-                    self.v_mps = 0.0;
-                    self.w_radps = 0.0;
                 }
             }
         }

@@ -9,7 +9,10 @@
 //! Once stuck, it backs up rear first, because turning on the spot against a rock would sweep
 //! a corner of the chassis into it; the navigator marks the cell ahead as an obstacle. It
 //! backs up along its own recent track where it has one (those poses were drivable: straight
-//! back from a turn on a slope can tilt it further), else straight behind.
+//! back from a turn on a slope can tilt it further), else straight behind. When neither way
+//! back gets anywhere, it drives straight ahead, nose first: a rover that swung its side into
+//! a rock while turning is held by every reverse move, which slides it along or into the
+//! rock, but not by driving on (compare seed 7 was held there for 180 s).
 //!
 //! ```
 //! use hopnav_planner::mission::{Bumper, BumperEvent, NavigatorConfig, RoverPose};
@@ -81,6 +84,8 @@ struct BackOff {
     from: RoverPose,
     since_s: f64,
     waypoint_m: [f64; 2],
+    /// Nose first (the escape after failed back-offs), not rear first.
+    forward: bool,
 }
 
 /// Positions of the recent track kept for backing off along it.
@@ -209,10 +214,12 @@ impl Bumper {
 
     fn start_back_off(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
         self.anchor = None;
+        let (waypoint_m, forward) = self.back_off_target(pose);
         self.backing_off = Some(BackOff {
             from: pose,
             since_s: time_s,
-            waypoint_m: self.back_off_target(pose),
+            waypoint_m,
+            forward,
         });
         BumperEvent::Stuck {
             obstacle_m: pose.ahead_m(self.config.obstacle_reach_m),
@@ -222,6 +229,11 @@ impl Bumper {
     /// While backing off: where to back up to.
     pub fn back_off_waypoint(&self) -> Option<[f64; 2]> {
         self.backing_off.map(|back_off| back_off.waypoint_m)
+    }
+
+    /// While backing off: true when the way out is nose first (see the module notes).
+    pub fn backing_off_forward(&self) -> bool {
+        self.backing_off.is_some_and(|back_off| back_off.forward)
     }
 
     fn extend_trail(&mut self, xy_m: [f64; 2]) {
@@ -238,22 +250,29 @@ impl Bumper {
         self.trail.push_back(xy_m);
     }
 
-    /// The newest track position a little beyond the back-off distance, else the point
-    /// straight behind (beyond the back-off distance, so the rover does not slow to a stop
-    /// before it gets there).
-    fn back_off_target(&self, pose: RoverPose) -> [f64; 2] {
-        let straight_behind_m = pose.ahead_m(-(self.config.back_off_m + 0.5));
-        if self.failed_back_offs % 2 == 1 {
+    /// Where to back off to, and whether nose first. In turn after failed tries: the newest
+    /// track position a little beyond the back-off distance; the point straight behind; the
+    /// point straight ahead (each beyond the back-off distance, so the rover does not slow to
+    /// a stop before it gets there).
+    fn back_off_target(&self, pose: RoverPose) -> ([f64; 2], bool) {
+        let beyond_m = self.config.back_off_m + 0.5;
+        match self.failed_back_offs % 3 {
             // The track did not lead out last time (a corner swept into a rock): straight.
-            return straight_behind_m;
+            1 => (pose.ahead_m(-beyond_m), false),
+            // Neither way back did: the rock is at the side or the rear.
+            2 => (pose.ahead_m(beyond_m), true),
+            _ => {
+                let reach_m = self.config.back_off_m + 0.3;
+                let along_track_m = self
+                    .trail
+                    .iter()
+                    .rev()
+                    .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
+                    .copied()
+                    .unwrap_or(pose.ahead_m(-beyond_m));
+                (along_track_m, false)
+            }
         }
-        let reach_m = self.config.back_off_m + 0.3;
-        self.trail
-            .iter()
-            .rev()
-            .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
-            .copied()
-            .unwrap_or(straight_behind_m)
     }
 }
 
@@ -340,6 +359,32 @@ mod tests {
         assert_eq!(
             bumper.observe(pose(0.0, 0.0), later_s, true),
             BumperEvent::Clear
+        );
+    }
+
+    #[test]
+    fn when_neither_way_back_gets_anywhere_it_drives_out_nose_first() {
+        let config = NavigatorConfig::default();
+        let mut bumper = Bumper::new(&config);
+        let held = pose(0.0, 0.0);
+        let mut time_s = 0.0;
+        let mut ways_out = Vec::new();
+        for _ in 0..4 {
+            // Stalls, then the back-off times out where it began.
+            let mut event = BumperEvent::Clear;
+            while !matches!(event, BumperEvent::Stuck { .. }) {
+                event = bumper.observe(held, time_s, true);
+                time_s += 0.1;
+            }
+            let waypoint = bumper.back_off_waypoint().unwrap();
+            ways_out.push((waypoint[0].signum(), bumper.backing_off_forward()));
+            time_s += config.back_off_timeout_s + 0.1;
+            assert_eq!(bumper.observe(held, time_s, true), BumperEvent::Clear);
+        }
+        // Rear first (no track: straight behind), rear first, nose first ahead, then over.
+        assert_eq!(
+            ways_out,
+            [(-1.0, false), (-1.0, false), (1.0, true), (-1.0, false)]
         );
     }
 

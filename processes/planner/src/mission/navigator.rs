@@ -47,7 +47,8 @@ pub struct Decision {
     pub speed_mps: f64,
     /// Hold still.
     pub hold: bool,
-    /// Back up rear first toward the waypoint (getting away from something the rover hit).
+    /// Back up rear first toward the waypoint (getting away from something the rover hit;
+    /// false for the nose-first escape after failed back-offs).
     pub reverse: bool,
     /// A hop to request from the jumper, if the cooperative rule fired.
     pub scout: Option<ScoutDecision>,
@@ -363,7 +364,7 @@ impl Navigator {
                 waypoint_m,
                 speed_mps: 0.5 * self.config.cruise_speed_mps,
                 hold: false,
-                reverse: true,
+                reverse: !self.bumper.backing_off_forward(),
                 scout: None,
                 status: MissionStatus::Driving,
                 replanned,

@@ -104,10 +104,12 @@ fn cell_change(update: &CellUpdate) -> Option<MapChange> {
         CellClass::Obstacle | CellClass::Lethal => CellState::Obstacle,
     };
     let seen_by_rover = update.observed_by & (1 << Robot::Rover.code()) != 0;
+    let seen_by_jumper = update.observed_by & (1 << Robot::Jumper.code()) != 0;
     let doubtful = class == CellClass::Lethal || (class == CellClass::Obstacle && !seen_by_rover);
     Some(MapChange {
         change: CellChange::new(Cell::new(update.x, update.y), state, update.extra_cost),
         doubtful,
+        scouted: seen_by_jumper && !seen_by_rover,
     })
 }
 

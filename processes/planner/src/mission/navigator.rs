@@ -91,6 +91,10 @@ pub struct MapChange {
     /// viewpoint, or the lethal margin around a rock. When such cells alone cut the rover off
     /// the goal, the navigator plans through them at a high cost and lets the rover look.
     pub doubtful: bool,
+    /// The cell's state comes from the jumper alone. A hop's clouds arrive keyframe by
+    /// keyframe over its flight; the navigator takes them as one batch once they stop coming
+    /// (see [`SCOUT_BATCH_QUIET_S`]), so one hop changes the route once, not at every keyframe.
+    pub scouted: bool,
 }
 
 impl From<CellChange> for MapChange {
@@ -98,6 +102,7 @@ impl From<CellChange> for MapChange {
         Self {
             change,
             doubtful: false,
+            scouted: false,
         }
     }
 }
@@ -121,6 +126,13 @@ pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;
 
+/// A batch of cells only the jumper saw is taken once no more have come for this long, seconds
+/// (keyframe clouds of a flying hop come a few frames apart).
+pub const SCOUT_BATCH_QUIET_S: f64 = 1.0;
+
+/// … or once the batch is this old, seconds (a hop flies for about 4.7 s).
+pub const SCOUT_BATCH_MAX_AGE_S: f64 = 8.0;
+
 /// Bumped cells remembered (a bounded list: a mission bumps a handful of times, nine cells
 /// each).
 const MAX_BUMPED_CELLS: usize = 1024;
@@ -133,6 +145,13 @@ pub struct Navigator {
     planner: DStarLite,
     path: Vec<Cell>,
     pending: Vec<CellChange>,
+    /// Jumper-only changes held back until the hop's clouds stop coming, latest per cell.
+    scouted: std::collections::HashMap<Cell, MapChange>,
+    /// When the held batch began and when it last grew, seconds (set by `step`).
+    scouted_since_s: Option<f64>,
+    scouted_last_s: f64,
+    /// The held batch grew since the last step.
+    scouted_grew: bool,
     counters: NavigatorCounters,
     last_request_s: f64,
     /// Stall detection and backing off.
@@ -187,6 +206,10 @@ impl Navigator {
             planner,
             path: Vec::with_capacity(cell_count.min(1 << 16)),
             pending: Vec::with_capacity(1024),
+            scouted: std::collections::HashMap::new(),
+            scouted_since_s: None,
+            scouted_last_s: 0.0,
+            scouted_grew: false,
             counters: NavigatorCounters::default(),
             last_request_s: 0.0,
             bumper,
@@ -235,20 +258,62 @@ impl Navigator {
     ) -> usize {
         let mut refused = 0;
         for change in changes {
-            let MapChange { change, doubtful } = change.into();
-            let Some(index) = self.cell_index(change.cell) else {
+            let change: MapChange = change.into();
+            if self.cell_index(change.change.cell).is_none() {
                 refused += 1;
                 continue;
-            };
-            self.doubtful[index] = doubtful && change.state == CellState::Obstacle;
-            let change = self.relax_if_doubtful(change);
-            if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
-                bumped.mapper = change;
-                continue;
             }
-            self.pending.push(self.keep_goal_open(change));
+            // The mapper sends a cell's whole state: the latest word on a cell wins, and a
+            // rover observation supersedes a held jumper one.
+            if change.scouted {
+                self.scouted.insert(change.change.cell, change);
+                self.scouted_grew = true;
+            } else {
+                self.scouted.remove(&change.change.cell);
+                self.take_change(change);
+            }
         }
         refused
+    }
+
+    /// Takes the held jumper batch once its hop's clouds stopped coming (or it grew old).
+    fn take_scouted_batch(&mut self, time_s: f64) {
+        if self.scouted.is_empty() {
+            self.scouted_since_s = None;
+            return;
+        }
+        let since_s = *self.scouted_since_s.get_or_insert(time_s);
+        if std::mem::take(&mut self.scouted_grew) {
+            self.scouted_last_s = time_s;
+        }
+        let quiet = time_s - self.scouted_last_s >= SCOUT_BATCH_QUIET_S;
+        if !(quiet || time_s - since_s >= SCOUT_BATCH_MAX_AGE_S) {
+            return;
+        }
+        let mut batch: Vec<MapChange> = self.scouted.drain().map(|(_, change)| change).collect();
+        // A deterministic order (the map's is not): replays must plan alike.
+        batch.sort_by_key(|change| (change.change.cell.y, change.change.cell.x));
+        for change in batch {
+            self.take_change(change);
+        }
+        self.scouted_since_s = None;
+    }
+
+    /// Queues one in-grid change for the planner.
+    fn take_change(&mut self, change: MapChange) {
+        let MapChange {
+            change, doubtful, ..
+        } = change;
+        let Some(index) = self.cell_index(change.cell) else {
+            return;
+        };
+        self.doubtful[index] = doubtful && change.state == CellState::Obstacle;
+        let change = self.relax_if_doubtful(change);
+        if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
+            bumped.mapper = change;
+            return;
+        }
+        self.pending.push(self.keep_goal_open(change));
     }
 
     fn cell_index(&self, cell: Cell) -> Option<usize> {
@@ -331,6 +396,7 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
+        self.take_scouted_batch(time_s);
         if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
             let replanned = self.apply_pending()?;
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));

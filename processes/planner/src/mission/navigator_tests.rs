@@ -134,6 +134,7 @@ fn doubtful_obstacles_that_alone_cut_off_the_goal_are_driven_through_at_a_cost()
     let doubtful = (34..40).map(|y| MapChange {
         change: CellChange::new(Cell::new(30, y), CellState::Obstacle, 0),
         doubtful: true,
+        scouted: false,
     });
     navigator.queue_changes(doubtful);
     let decision = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
@@ -369,4 +370,67 @@ fn outside_positions_are_errors_not_panics() {
         navigator.queue_changes([CellChange::new(Cell::new(99, 0), CellState::Obstacle, 0)]),
         1
     );
+}
+
+/// A rock cell as the mapper reports one only the jumper saw.
+fn jumper_only_rock(cell: Cell) -> MapChange {
+    MapChange {
+        change: CellChange::new(cell, CellState::Obstacle, 0),
+        doubtful: true,
+        scouted: true,
+    }
+}
+
+/// A navigator without scouting that planned once, at t = 0, from the rover at (2, 5) m
+/// across an all-unknown map.
+fn planned_on_an_unknown_map() -> (Navigator, RoverPose) {
+    let (geometry, _) = walled_world();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [28.0, 5.0], config).unwrap();
+    let rover = at([2.0, 5.0]);
+    navigator.step(rover, None, 0.0).unwrap();
+    (navigator, rover)
+}
+
+#[test]
+fn a_hops_jumper_cells_change_the_route_once_when_its_clouds_stop_coming() {
+    let (mut navigator, rover) = planned_on_an_unknown_map();
+    let straight_cost = navigator.counters().path_cost;
+    // A rock across the straight line, seen by the jumper in three keyframe clouds 0.3 s apart.
+    let scouted = |y: u32| jumper_only_rock(Cell::new(30, y));
+    for (frame, rows) in [(1, 8..10), (4, 10..12), (7, 6..8)] {
+        navigator.queue_changes(rows.map(scouted));
+        let decision = navigator.step(rover, None, f64::from(frame) * 0.1).unwrap();
+        assert!(
+            !decision.replanned,
+            "frame {frame}: taken before the hop's clouds ended"
+        );
+    }
+    assert_eq!(navigator.counters().path_cost, straight_cost);
+    // Quiet for SCOUT_BATCH_QUIET_S: the whole batch is taken, one replan.
+    let decision = navigator
+        .step(rover, None, 0.75 + SCOUT_BATCH_QUIET_S)
+        .unwrap();
+    assert!(decision.replanned);
+    assert_eq!(navigator.counters().replans, 1);
+    assert!(navigator.counters().path_cost > straight_cost);
+    assert!(
+        navigator
+            .path()
+            .iter()
+            .all(|cell| !(cell.x == 30 && (6..12).contains(&cell.y)))
+    );
+}
+
+#[test]
+fn the_rovers_word_on_a_cell_supersedes_a_held_jumper_one() {
+    let (mut navigator, rover) = planned_on_an_unknown_map();
+    let cell = Cell::new(30, 10);
+    navigator.queue_changes([jumper_only_rock(cell)]);
+    // The rover's stereo sees the same cell before the batch is taken: only near a rock.
+    navigator.queue_changes([CellChange::new(cell, CellState::Free, 300)]);
+    navigator.step(rover, None, 5.0).unwrap();
+    assert_eq!(navigator.grid().state(cell), Some(CellState::Free));
+    assert_eq!(navigator.grid().extra_cost(cell), Some(300));
 }

@@ -8,6 +8,7 @@
 //!   when the goal is reached or unreachable.
 //! - [`scout`]: the paper's cooperative rule: when the path runs into unknown cells beyond the
 //!   rover's sensing range or behind an obstacle, request a hop that flies over them.
+//! - [`scout_batch`]: a hop's jumper-only cells, held until its clouds stop coming.
 //!
 //! ```
 //! use hopnav_planner::mission::{MapGeometry, Navigator, NavigatorConfig, RoverPose};
@@ -24,6 +25,7 @@ mod config;
 mod geometry;
 mod navigator;
 mod scout;
+mod scout_batch;
 
 pub use bumper::{Bumper, BumperEvent, RoverPose};
 pub use config::{NavigatorConfig, ScoutConfig};
@@ -33,3 +35,4 @@ pub use navigator::{
     NavigatorCounters,
 };
 pub use scout::{ScoutDecision, find_region_of_interest};
+pub use scout_batch::{SCOUT_BATCH_MAX_AGE_S, SCOUT_BATCH_QUIET_S};

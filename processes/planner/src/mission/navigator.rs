@@ -5,6 +5,7 @@ use super::bumper::{Bumper, BumperEvent, RoverPose};
 use super::config::NavigatorConfig;
 use super::geometry::MapGeometry;
 use super::scout::{self, ScoutDecision, distance_m};
+use super::scout_batch::ScoutBatch;
 use crate::cost::{Cost, MOVES, neighbour, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
@@ -93,7 +94,7 @@ pub struct MapChange {
     pub doubtful: bool,
     /// The cell's state comes from the jumper alone. A hop's clouds arrive keyframe by
     /// keyframe over its flight; the navigator takes them as one batch once they stop coming
-    /// (see [`SCOUT_BATCH_QUIET_S`]), so one hop changes the route once, not at every keyframe.
+    /// (see [`SCOUT_BATCH_QUIET_S`](super::scout_batch::SCOUT_BATCH_QUIET_S)), so one hop changes the route once, not at every keyframe.
     pub scouted: bool,
 }
 
@@ -126,13 +127,6 @@ pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;
 
-/// A batch of cells only the jumper saw is taken once no more have come for this long, seconds
-/// (keyframe clouds of a flying hop come a few frames apart).
-pub const SCOUT_BATCH_QUIET_S: f64 = 1.0;
-
-/// … or once the batch is this old, seconds (a hop flies for about 4.7 s).
-pub const SCOUT_BATCH_MAX_AGE_S: f64 = 8.0;
-
 /// Bumped cells remembered (a bounded list: a mission bumps a handful of times, nine cells
 /// each).
 const MAX_BUMPED_CELLS: usize = 1024;
@@ -145,13 +139,8 @@ pub struct Navigator {
     planner: DStarLite,
     path: Vec<Cell>,
     pending: Vec<CellChange>,
-    /// Jumper-only changes held back until the hop's clouds stop coming, latest per cell.
-    scouted: std::collections::HashMap<Cell, MapChange>,
-    /// When the held batch began and when it last grew, seconds (set by `step`).
-    scouted_since_s: Option<f64>,
-    scouted_last_s: f64,
-    /// The held batch grew since the last step.
-    scouted_grew: bool,
+    /// Jumper-only changes held back until the hop's clouds stop coming.
+    scouted: ScoutBatch,
     counters: NavigatorCounters,
     last_request_s: f64,
     /// Stall detection and backing off.
@@ -206,10 +195,7 @@ impl Navigator {
             planner,
             path: Vec::with_capacity(cell_count.min(1 << 16)),
             pending: Vec::with_capacity(1024),
-            scouted: std::collections::HashMap::new(),
-            scouted_since_s: None,
-            scouted_last_s: 0.0,
-            scouted_grew: false,
+            scouted: ScoutBatch::default(),
             counters: NavigatorCounters::default(),
             last_request_s: 0.0,
             bumper,
@@ -266,37 +252,13 @@ impl Navigator {
             // The mapper sends a cell's whole state: the latest word on a cell wins, and a
             // rover observation supersedes a held jumper one.
             if change.scouted {
-                self.scouted.insert(change.change.cell, change);
-                self.scouted_grew = true;
+                self.scouted.hold(change);
             } else {
-                self.scouted.remove(&change.change.cell);
+                self.scouted.forget(change.change.cell);
                 self.take_change(change);
             }
         }
         refused
-    }
-
-    /// Takes the held jumper batch once its hop's clouds stopped coming (or it grew old).
-    fn take_scouted_batch(&mut self, time_s: f64) {
-        if self.scouted.is_empty() {
-            self.scouted_since_s = None;
-            return;
-        }
-        let since_s = *self.scouted_since_s.get_or_insert(time_s);
-        if std::mem::take(&mut self.scouted_grew) {
-            self.scouted_last_s = time_s;
-        }
-        let quiet = time_s - self.scouted_last_s >= SCOUT_BATCH_QUIET_S;
-        if !(quiet || time_s - since_s >= SCOUT_BATCH_MAX_AGE_S) {
-            return;
-        }
-        let mut batch: Vec<MapChange> = self.scouted.drain().map(|(_, change)| change).collect();
-        // A deterministic order (the map's is not): replays must plan alike.
-        batch.sort_by_key(|change| (change.change.cell.y, change.change.cell.x));
-        for change in batch {
-            self.take_change(change);
-        }
-        self.scouted_since_s = None;
     }
 
     /// Queues one in-grid change for the planner.
@@ -396,7 +358,9 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
-        self.take_scouted_batch(time_s);
+        for change in self.scouted.take_if_settled(time_s) {
+            self.take_change(change);
+        }
         if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
             let replanned = self.apply_pending()?;
             return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));

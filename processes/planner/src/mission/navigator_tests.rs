@@ -1,6 +1,7 @@
 //! Tests of the navigator: driving a point rover over revealed grids.
 
 use super::*;
+use crate::mission::SCOUT_BATCH_QUIET_S;
 
 fn at(xy_m: [f64; 2]) -> RoverPose {
     RoverPose { xy_m, yaw_rad: 0.0 }

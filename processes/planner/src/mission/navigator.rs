@@ -5,7 +5,7 @@ use super::bumper::{Bumper, BumperEvent, RoverPose};
 use super::config::NavigatorConfig;
 use super::geometry::MapGeometry;
 use super::scout::{self, ScoutDecision, distance_m};
-use super::scout_batch::ScoutBatch;
+use super::scout_batch::{SCOUT_BATCH_URGENT_AHEAD_M, ScoutBatch};
 use crate::cost::{Cost, MOVES, neighbour, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
@@ -358,7 +358,11 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
-        for change in self.scouted.take_if_settled(time_s) {
+        let ahead_len = self.path_cells_within(rover_m, SCOUT_BATCH_URGENT_AHEAD_M);
+        for change in self
+            .scouted
+            .take_if_settled(time_s, &self.path[..ahead_len])
+        {
             self.take_change(change);
         }
         if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
@@ -589,6 +593,14 @@ impl Navigator {
                     .segment_is_clear(self.planner.grid(), rover_m, target_m)
             })
             .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
+    }
+
+    /// How many cells of the path, from its start, lie within `range_m` of the rover.
+    fn path_cells_within(&self, rover_m: [f64; 2], range_m: f64) -> usize {
+        self.path
+            .iter()
+            .position(|&cell| distance_m(self.geometry.center_of(cell), rover_m) > range_m)
+            .unwrap_or(self.path.len())
     }
 
     /// `cell` if traversable, else the traversable cell within three rings whose centre is

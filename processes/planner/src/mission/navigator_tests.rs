@@ -425,6 +425,22 @@ fn a_hops_jumper_cells_change_the_route_once_when_its_clouds_stop_coming() {
 }
 
 #[test]
+fn a_held_jumper_rock_just_ahead_on_the_path_is_taken_at_once() {
+    let (mut navigator, rover) = planned_on_an_unknown_map();
+    // 2 m ahead of the rover, across its straight route: waiting for the hop's clouds to stop
+    // would let it drive into the rock.
+    navigator.queue_changes((8..12).map(|y| jumper_only_rock(Cell::new(8, y))));
+    let decision = navigator.step(rover, None, 0.1).unwrap();
+    assert!(decision.replanned, "held while the rover drives into it");
+    assert!(
+        navigator
+            .path()
+            .iter()
+            .all(|cell| !(cell.x == 8 && (8..12).contains(&cell.y)))
+    );
+}
+
+#[test]
 fn the_rovers_word_on_a_cell_supersedes_a_held_jumper_one() {
     let (mut navigator, rover) = planned_on_an_unknown_map();
     let cell = Cell::new(30, 10);

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::navigator::MapChange;
-use crate::grid::Cell;
+use crate::grid::{Cell, CellState};
 
 /// A batch of cells only the jumper saw is taken once no more have come for this long, seconds
 /// (keyframe clouds of a flying hop come a few frames apart).
@@ -12,6 +12,11 @@ pub const SCOUT_BATCH_QUIET_S: f64 = 1.0;
 
 /// … or once the batch is this old, seconds (a hop flies for about 4.7 s).
 pub const SCOUT_BATCH_MAX_AGE_S: f64 = 8.0;
+
+/// A held cell that costs more than free ground this far along the path ahead of the rover,
+/// metres, releases the batch at once: at cruise speed the rover would be into it before the
+/// batch settles (0.5 m/s × up to 8 s).
+pub const SCOUT_BATCH_URGENT_AHEAD_M: f64 = 4.0;
 
 /// Jumper-only changes held back, the latest per cell.
 #[derive(Debug, Default)]
@@ -41,8 +46,10 @@ impl ScoutBatch {
     }
 
     /// At `time_s`: the whole batch, row by row, once no change has come for
-    /// [`SCOUT_BATCH_QUIET_S`] or the batch is [`SCOUT_BATCH_MAX_AGE_S`] old; else nothing.
-    pub(super) fn take_if_settled(&mut self, time_s: f64) -> Vec<MapChange> {
+    /// [`SCOUT_BATCH_QUIET_S`] or the batch is [`SCOUT_BATCH_MAX_AGE_S`] old, or at once when
+    /// a held cell would close or raise the cost of `path_ahead` (the next
+    /// [`SCOUT_BATCH_URGENT_AHEAD_M`] of the rover's path); else nothing.
+    pub(super) fn take_if_settled(&mut self, time_s: f64, path_ahead: &[Cell]) -> Vec<MapChange> {
         if self.held.is_empty() {
             self.since_s = None;
             return Vec::new();
@@ -52,10 +59,20 @@ impl ScoutBatch {
             self.last_s = time_s;
         }
         let quiet = time_s - self.last_s >= SCOUT_BATCH_QUIET_S;
-        if !(quiet || time_s - since_s >= SCOUT_BATCH_MAX_AGE_S) {
+        let old = time_s - since_s >= SCOUT_BATCH_MAX_AGE_S;
+        if !(quiet || old || self.blocks(path_ahead)) {
             return Vec::new();
         }
         self.since_s = None;
         std::mem::take(&mut self.held).into_values().collect()
+    }
+
+    /// A held cell on `path` is an obstacle or costs extra.
+    fn blocks(&self, path: &[Cell]) -> bool {
+        path.iter().any(|cell| {
+            self.held.get(&(cell.y, cell.x)).is_some_and(|held| {
+                held.change.state == CellState::Obstacle || held.change.extra_cost > 0
+            })
+        })
     }
 }

@@ -58,6 +58,10 @@ pub struct MapperConfig {
     pub min_high_clouds: u16,
     /// … and at least this fraction of the jumper clouds that judged a feature in the cell.
     pub min_high_cloud_fraction: f64,
+    /// Rover features after which the rover's close look decides a cell alone: the jumper's
+    /// measured high features there stop counting (its clouds carry metres of pose drift and
+    /// depth error, and fatten rocks into the gaps between them; 0 = never).
+    pub rover_overrules_jumper_after: u32,
     /// Features a cell needs to count as observed (free).
     pub min_free_support: u32,
     /// Radius of the neighbourhood whose lowest observations define the local ground, metres.
@@ -99,6 +103,7 @@ impl Default for MapperConfig {
             fraction_min_features: 20,
             min_high_clouds: 2,
             min_high_cloud_fraction: 0.3,
+            rover_overrules_jumper_after: 10,
             min_free_support: 1,
             ground_window_m: 2.0,
             inflation_radius_m: 1.0,
@@ -192,6 +197,12 @@ impl MapperConfig {
             self.min_high_cloud_fraction,
             0.0,
             1.0,
+        )?;
+        check_u64(
+            "rover_overrules_jumper_after",
+            u64::from(self.rover_overrules_jumper_after),
+            0,
+            1_000_000,
         )?;
         check_u64(
             "min_free_support",

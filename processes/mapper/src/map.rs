@@ -92,6 +92,7 @@ struct Thresholds {
     rover_height_sigma_factor: f32,
     min_high_clouds: u16,
     min_high_cloud_fraction: f64,
+    rover_overrules_jumper_after: u32,
     min_obstacle_support: u32,
     obstacle_min_fraction: f64,
     fraction_min_features: u32,
@@ -148,6 +149,7 @@ impl FeatureMap {
                 rover_height_sigma_factor: config.rover_height_sigma_factor as f32,
                 min_high_clouds: config.min_high_clouds,
                 min_high_cloud_fraction: config.min_high_cloud_fraction,
+                rover_overrules_jumper_after: config.rover_overrules_jumper_after,
                 min_obstacle_support: config.min_obstacle_support,
                 obstacle_min_fraction: config.obstacle_min_fraction,
                 fraction_min_features: config.fraction_min_features,
@@ -397,7 +399,8 @@ impl FeatureMap {
         let t = self.thresholds;
         let jumper_clouds_agree = stats.high_clouds >= t.min_high_clouds
             && f64::from(stats.high_clouds)
-                >= t.min_high_cloud_fraction * f64::from(stats.judged_clouds);
+                >= t.min_high_cloud_fraction * f64::from(stats.judged_clouds)
+            && !self.rover_overrules_jumper(&stats);
         let mut high = if jumper_clouds_agree {
             stats.measured_high
         } else {
@@ -426,6 +429,18 @@ impl FeatureMap {
             support,
             high,
         }
+    }
+
+    /// The rover has looked at the cell closely enough that its stereo alone says whether a
+    /// rock stands there.
+    fn rover_overrules_jumper(&self, stats: &CellStats) -> bool {
+        let after = self.thresholds.rover_overrules_jumper_after;
+        let rover_features = stats
+            .count_by_robot
+            .get(Robot::Rover.code() as usize)
+            .copied()
+            .unwrap_or(0);
+        after > 0 && rover_features >= after
     }
 
     /// High features of unknown height that stand more than the traversable height above the

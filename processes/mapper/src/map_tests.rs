@@ -463,3 +463,42 @@ fn one_cloud_alone_or_outvoted_makes_no_rock() {
     map.update();
     assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
 }
+
+#[test]
+fn the_rovers_close_look_overrules_a_jumper_rock_and_confirms_a_real_one() {
+    let jumper_rock = rock_on_slope(0.6, true);
+    let bare_ground = rock_on_slope(0.0, true);
+    // The jumper's clouds agree on a rock where the rover's stereo then sees bare ground (the
+    // jumper's pose had drifted): the rover decides.
+    let mut map = new_map();
+    seen_twice(&mut map, Robot::Jumper, &jumper_rock);
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    map.insert_cloud(Robot::Rover, &bare_ground);
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Free);
+    // A rock both robots see stays.
+    let mut map = new_map();
+    seen_twice(&mut map, Robot::Jumper, &jumper_rock);
+    map.insert_cloud(Robot::Rover, &rock_on_slope(0.6, true));
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    // A glance (a few rover features per cell) does not overrule the jumper…
+    let glance: Vec<FeaturePoint> = bare_ground.iter().step_by(10).copied().collect();
+    let mut map = new_map();
+    seen_twice(&mut map, Robot::Jumper, &jumper_rock);
+    map.insert_cloud(Robot::Rover, &glance);
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    // … and with the rule off (0) nothing does.
+    let config = MapperConfig {
+        rover_overrules_jumper_after: 0,
+        ..config()
+    };
+    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
+    let mut map = FeatureMap::new(&config, geometry);
+    seen_twice(&mut map, Robot::Jumper, &jumper_rock);
+    map.insert_cloud(Robot::Rover, &bare_ground);
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+}

@@ -11,8 +11,9 @@
 //! - [`map`]: insertion, classification (obstacle = at least `min_obstacle_support` features
 //!   more than `traversable_height_m` above the local ground, at least
 //!   `obstacle_min_fraction` of a well-observed cell's features, and at least
-//!   `min_high_clouds` clouds finding it high), inflation ([`inflation`]) and the diff of
-//!   changed cells.
+//!   `min_high_clouds` clouds finding it high; once the rover has put
+//!   `rover_overrules_jumper_after` features in a cell, its stereo alone decides),
+//!   inflation ([`inflation`]) and the diff of changed cells.
 //! - [`snapshot`]: save and restore the statistics; [`view`]: read-only access for plots.
 //!
 //! ```

@@ -67,6 +67,12 @@ const TOUCH_PREDICTION_M: f32 = 0.05;
 /// metres.
 const AWAY_OVERLAP_M: f32 = 0.05;
 
+/// A move slides along a touched rock when its step points toward the rock by at most this
+/// fraction of its length (about 6°) …
+const SLIDE_TOWARD_FRACTION: f32 = 0.1;
+/// … and it leaves the overlap no deeper than this (rounding), metres.
+const SLIDE_DEPTH_TOLERANCE_M: f32 = 1e-5;
+
 /// How far below the contact plane the blocking footprint box reaches, metres.
 const FOOTPRINT_BELOW_M: f64 = 0.05;
 /// A rock contact episode ends once the rover is this far from where it was blocked, metres …
@@ -638,11 +644,15 @@ fn place(
 }
 
 /// True when a rover at `current`, touching or overlapping the blocking rock compound `rock`,
-/// may go to `next`: the move reduces the overlap by at least `min_reduction_m`, or it steps
+/// may go to `next`: the move reduces the overlap by at least `min_reduction_m`; or it steps
 /// away from the rock (against the contact normal) and overlaps it at most
-/// [`AWAY_OVERLAP_M`] more. The footprint box reaches below the ground, so a wheel rolling
-/// off a small rock pitches its lower corners a few centimetres into a big rock the rover
-/// touches; without this, backing away from it was refused and the rover wedged for good.
+/// [`AWAY_OVERLAP_M`] more; or it slides along the rock ([`SLIDE_TOWARD_FRACTION`]) no
+/// deeper. The footprint box reaches below the ground, so a wheel rolling off a small rock
+/// pitches its lower corners a few centimetres into a big rock the rover touches; without
+/// the second rule, backing away from it was refused and the rover wedged for good. Without
+/// the third, a rover whose flank overlapped a rock beside it could not drive on along it: the
+/// overlap of a flat side sliding past a rock does not shrink, and every move was refused
+/// (compare seed 13 froze for 120 s).
 fn separates_from_rock(
     pw: &PhysicsWorld,
     rock: ColliderHandle,
@@ -674,7 +684,11 @@ fn separates_from_rock(
     }
     // normal1 points from the footprint toward the rock.
     let step = next.translation - current.translation;
-    step.dot(now.normal1) < 0.0 && next_depth_m <= current_depth_m + AWAY_OVERLAP_M
+    let toward_m = step.dot(now.normal1);
+    let away = toward_m < 0.0 && next_depth_m <= current_depth_m + AWAY_OVERLAP_M;
+    let slides = toward_m <= SLIDE_TOWARD_FRACTION * step.length()
+        && next_depth_m <= current_depth_m + SLIDE_DEPTH_TOLERANCE_M;
+    away || slides
 }
 
 #[cfg(test)]
@@ -698,6 +712,34 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A rock ball of radius 0.27 m whose side overlaps the left flank of a 1 m × 0.7 m
+    /// footprint at the origin (yaw 0) by 2 cm, beside its middle.
+    fn rock_beside_the_flank() -> (PhysicsWorld, ColliderHandle, Cuboid, Pose) {
+        let footprint = Cuboid::new(Vec3::new(0.5, 0.35, 0.2));
+        let mut pw = PhysicsWorld::new();
+        let rock = pw.insert_collider(
+            ColliderBuilder::ball(0.27)
+                .translation(Vec3::new(-0.04, 0.35 + 0.27 - 0.02, 0.0))
+                .build(),
+            None,
+        );
+        (pw, rock, footprint, Pose::IDENTITY)
+    }
+
+    #[test]
+    fn a_flank_overlapping_a_rock_may_drive_on_along_it_but_not_into_it() {
+        let (pw, rock, footprint, current) = rock_beside_the_flank();
+        let moved = |dx: f32, dy: f32| Pose::from_translation(Vec3::new(dx, dy, 0.0));
+        let may = |next: Pose| separates_from_rock(&pw, rock, &footprint, (&current, &next), 1e-4);
+        // One 10 ms substep at 0.25 m/s, forward and backward along the rock.
+        assert!(may(moved(0.0025, 0.0)), "forward along the rock refused");
+        assert!(may(moved(-0.0025, 0.0)), "backward along the rock refused");
+        // Into it, even at a slant, is refused; straight out of it is allowed.
+        assert!(!may(moved(0.0025, 0.0005)));
+        assert!(!may(moved(0.0, 0.0025)));
+        assert!(may(moved(0.0, -0.0025)));
     }
 
     #[test]

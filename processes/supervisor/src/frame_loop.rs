@@ -752,18 +752,20 @@ impl FrameLoop {
                     "not ready after {:.1} s (run.startup_timeout_s)",
                     silence.as_secs_f64()
                 )),
-                Phase::Running if silence > hard_limit => Some(format!(
-                    "no heartbeat for {frames:.1} frame periods, watchdog.heartbeat_timeout_frames = {}",
-                    self.config.watchdog.heartbeat_timeout_frames
-                )),
                 Phase::Running if silence > period => {
                     let progress = ProgressSample::read(pid);
                     let baseline = *slot
                         .silence_cpu_ticks
                         .get_or_insert(progress.map_or(0, |sample| sample.cpu_ticks));
+                    // The most telling reason first: a supervisor that itself ran late (a
+                    // loaded machine) still reports a stopped child as stopped.
                     match progress {
                         Some(sample) if silence > stall_limit && sample.stopped => Some(format!(
                             "stopped, no heartbeat for {frames:.1} frame periods"
+                        )),
+                        _ if silence > hard_limit => Some(format!(
+                            "no heartbeat for {frames:.1} frame periods, watchdog.heartbeat_timeout_frames = {}",
+                            self.config.watchdog.heartbeat_timeout_frames
                         )),
                         Some(sample)
                             if silence > stall_limit

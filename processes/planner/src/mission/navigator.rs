@@ -94,7 +94,7 @@ pub struct MapChange {
     pub doubtful: bool,
     /// The cell's state comes from the jumper alone. A hop's clouds arrive keyframe by
     /// keyframe over its flight; the navigator takes them as one batch once they stop coming
-    /// (see [`SCOUT_BATCH_QUIET_S`](super::scout_batch::SCOUT_BATCH_QUIET_S)), so one hop changes the route once, not at every keyframe.
+    /// (see [`ScoutBatch`]), so one hop changes the route once, not at every keyframe.
     pub scouted: bool,
 }
 

@@ -38,6 +38,8 @@ pub struct CellStats {
     pub measured_high: u32,
     /// Of them, the jumper's (whose clouds must also agree, see [`CellStats::vote`]).
     pub jumper_measured_high: u32,
+    /// Measured features from the jumper (high or not).
+    pub jumper_measured_count: u32,
     /// Smallest measured height above ground, metres (valid if `measured_count > 0`).
     pub min_height_m: f32,
     /// Largest measured height above ground, metres (valid if `measured_count > 0`).
@@ -79,6 +81,7 @@ impl Default for CellStats {
             measured_count: 0,
             measured_high: 0,
             jumper_measured_high: 0,
+            jumper_measured_count: 0,
             min_height_m: 0.0,
             max_height_m: 0.0,
             sum_height_m: 0.0,
@@ -153,6 +156,9 @@ impl CellStats {
                     self.max_height_m = self.max_height_m.max(height);
                 }
                 self.measured_count = self.measured_count.saturating_add(1);
+                if robot_code == JUMPER_CODE {
+                    self.jumper_measured_count = self.jumper_measured_count.saturating_add(1);
+                }
                 self.sum_height_m += f64::from(height);
                 if height > traversable_height_m {
                     self.measured_high = self.measured_high.saturating_add(1);
@@ -195,10 +201,22 @@ impl CellStats {
     }
 
     /// Fraction of the judged features (measured or provisional) above the traversable
-    /// height, `None` with fewer than `min_judged` of them.
-    pub fn high_fraction(&self, min_judged: u32) -> Option<f64> {
-        let judged = u64::from(self.measured_count) + u64::from(self.provisional_count);
-        let high = u64::from(self.measured_high) + u64::from(self.provisional_high);
+    /// height, `None` with fewer than `min_judged` of them. Without `count_jumper` the
+    /// jumper's measured features are left out of both counts: where its high features do not
+    /// count, its ground features must not dilute the rover's evidence either (seen from
+    /// metres up, a 0.25 m rock's top is not high by two of its height sigmas).
+    pub fn high_fraction(&self, min_judged: u32, count_jumper: bool) -> Option<f64> {
+        let (jumper_judged, jumper_high) = if count_jumper {
+            (0, 0)
+        } else {
+            (
+                self.jumper_measured_count.min(self.measured_count),
+                self.jumper_measured_high.min(self.measured_high),
+            )
+        };
+        let judged =
+            u64::from(self.measured_count - jumper_judged) + u64::from(self.provisional_count);
+        let high = u64::from(self.measured_high - jumper_high) + u64::from(self.provisional_high);
         (judged >= u64::from(min_judged) && judged > 0).then(|| high as f64 / judged as f64)
     }
 

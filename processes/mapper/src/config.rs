@@ -49,7 +49,9 @@ pub struct MapperConfig {
     pub min_obstacle_support: u32,
     /// Once a cell has `fraction_min_features` judged features, at least this fraction of them
     /// must be high for it to be an obstacle (0 = off): outliers that pile up in one cell over
-    /// a long mission stay a small fraction of its features.
+    /// a long mission stay a small fraction of its features. The jumper's measured features
+    /// are judged only where its high ones count (its clouds agree, the rover has not
+    /// overruled it).
     pub obstacle_min_fraction: f64,
     /// Judged features a cell needs before `obstacle_min_fraction` applies.
     pub fraction_min_features: u32,

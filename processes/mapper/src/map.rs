@@ -410,7 +410,7 @@ impl FeatureMap {
             high = high.saturating_add(self.estimated_high(index, &stats));
         }
         let fraction_ok = stats
-            .high_fraction(t.fraction_min_features)
+            .high_fraction(t.fraction_min_features, jumper_clouds_agree)
             .is_none_or(|fraction| fraction >= t.obstacle_min_fraction);
         let class = if high >= t.min_obstacle_support && fraction_ok {
             BaseClass::Obstacle

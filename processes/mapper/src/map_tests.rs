@@ -502,3 +502,51 @@ fn the_rovers_close_look_overrules_a_jumper_rock_and_confirms_a_real_one() {
     map.update();
     assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
 }
+
+/// `count` features spread over the cell [3, 3.5) × [3, 3.5), the first `high` of them
+/// `high_m` above the sloped ground, the rest on it; heights measured.
+fn features_in_one_cell(count: usize, high: usize, high_m: f32) -> Vec<FeaturePoint> {
+    (0..count)
+        .map(|k| {
+            let (x, y) = (
+                3.02 + 0.07 * (k % 7) as f32,
+                3.02 + 0.07 * (k / 7 % 7) as f32,
+            );
+            let above = if k < high { high_m } else { 0.0 };
+            FeaturePoint {
+                position_m: [x, y, ground_z(x, y) + above],
+                height_above_ground_m: above,
+                track_id: k as u32,
+                depth_sigma_m: 0.05,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn the_jumpers_ground_view_does_not_dilute_a_small_rock_the_rover_sees() {
+    // A 0.22 m rock (the rover climbs 0.2 m) fills part of a cell: 4 of the rover's 30
+    // features there are on its top. The jumper, metres up, saw only ground there in ten
+    // clouds: 100 features that must not outvote the rover's 4 high ones (4 of 130 is below
+    // the 10 % fraction; 4 of the rover's 30 is not).
+    let rover_view = features_in_one_cell(30, 4, 0.22);
+    let jumper_view = features_in_one_cell(10, 0, 0.0);
+    let mut map = new_map();
+    map.insert_cloud(Robot::Rover, &rover_view);
+    for _ in 0..10 {
+        map.insert_cloud(Robot::Jumper, &jumper_view);
+    }
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Obstacle);
+    // The rover's own evidence still has to pass the fraction: 3 stray high features among
+    // 100 of its own stay free, with or without the jumper's view.
+    let mut map = new_map();
+    map.insert_cloud(Robot::Rover, &features_in_one_cell(100, 3, 0.22));
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Free);
+    for _ in 0..10 {
+        map.insert_cloud(Robot::Jumper, &jumper_view);
+    }
+    map.update();
+    assert_eq!(class_at(&map, 3.25, 3.25), CellClass::Free);
+}

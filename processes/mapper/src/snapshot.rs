@@ -30,7 +30,7 @@ use crate::geometry::GridGeometry;
 use crate::map::{FeatureMap, MapCounters};
 
 /// Version of the snapshot layout; bump when [`CellStats`] changes.
-pub const SNAPSHOT_VERSION: u32 = 1;
+pub const SNAPSHOT_VERSION: u32 = 2;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]

@@ -14,6 +14,7 @@ use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Tra
 use iceoryx2::node::Node;
 
 use crate::full_knowledge::{FullKnowledgePath, full_knowledge_path};
+use crate::hop_counter::HopCounter;
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::mission_report::MissionReport;
 use crate::vo_accuracy::VoTrack;
@@ -72,8 +73,7 @@ pub struct MissionObserver {
     rover_path_m: f64,
     last_rover_m: Option<[f64; 2]>,
     collisions: u32,
-    takeoffs: u32,
-    jumper_in_contact: bool,
+    hops: HopCounter,
     last_sim_time_s: f64,
     reached_at_s: Option<f64>,
     unreachable_since_s: Option<f64>,
@@ -128,8 +128,7 @@ impl MissionObserver {
             rover_path_m: 0.0,
             last_rover_m: None,
             collisions: 0,
-            takeoffs: 0,
-            jumper_in_contact: true,
+            hops: HopCounter::default(),
             last_sim_time_s: 0.0,
             reached_at_s: None,
             unreachable_since_s: None,
@@ -191,13 +190,9 @@ impl MissionObserver {
         }
         self.last_rover_m = Some([x_m, y_m]);
         push_if_moved(&mut self.rover_track_m, (x_m, y_m));
-        let [jx_m, jy_m, _] = states.jumper.world_from_body.position_m;
+        let [jx_m, jy_m, jz_m] = states.jumper.world_from_body.position_m;
         push_if_moved(&mut self.jumper_track_m, (jx_m, jy_m));
-        let in_contact = states.jumper.in_contact != 0;
-        if self.jumper_in_contact && !in_contact {
-            self.takeoffs += 1;
-        }
-        self.jumper_in_contact = in_contact;
+        self.hops.observe(states.jumper.in_contact != 0, jz_m);
         self.collisions = states.rover.collisions;
     }
 
@@ -258,7 +253,7 @@ impl MissionObserver {
             replans: header.replan_count,
             node_expansions: header.total_expansions,
             jump_requests: header.jump_requests,
-            jumper_hops: self.takeoffs,
+            jumper_hops: self.hops.hops(),
             collisions: self.collisions,
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),

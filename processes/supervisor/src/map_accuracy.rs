@@ -3,7 +3,9 @@
 //!
 //! - An obstacle cell is **true** when a rock at least `min_rock_height_m` tall overlaps it
 //!   (its footprint reaches within half a cell of the cell's square); otherwise it is a
-//!   **false obstacle**, counted by who observed it.
+//!   **false obstacle**, counted by who observed it. A false cell of the jumper's within
+//!   [`MISPLACEMENT_REACH_M`] of a rock the rover cannot climb is counted again as
+//!   **misplaced**: a real rock drawn off its place by the jumper's pose error, not invented.
 //! - A rock the rover cannot climb (taller than `blocking_height_m`) near the rover's track
 //!   is **found** when an obstacle cell lies within its footprint plus half a cell.
 //!
@@ -23,6 +25,11 @@ use serde::{Deserialize, Serialize};
 
 /// Blocking rocks this close to the rover's true track count for recall, metres.
 pub const TRACK_NEIGHBOURHOOD_M: f64 = 3.0;
+
+/// A false jumper cell this close to an unclimbable rock's footprint counts as misplaced,
+/// metres: about the jumper VO's world-frame error after a dozen hops (unaligned RMSE ≈ 2 m
+/// in boulder fields), beyond which a rock is more likely invented than shifted.
+pub const MISPLACEMENT_REACH_M: f64 = 2.5;
 
 /// A rock as the evaluation needs it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,6 +64,10 @@ pub struct MapAccuracy {
     pub false_by_jumper: usize,
     /// … by both.
     pub false_by_both: usize,
+    /// Of `false_by_jumper`, cells within [`MISPLACEMENT_REACH_M`] of a rock the rover
+    /// cannot climb: real rocks the jumper drew in the wrong place.
+    #[serde(default)]
+    pub false_by_jumper_misplaced: usize,
     /// Rocks the rover cannot climb within [`TRACK_NEIGHBOURHOOD_M`] of its true track.
     pub blocking_rocks_near_track: usize,
     /// Of them, covered by an obstacle cell.
@@ -102,7 +113,16 @@ pub fn evaluate(
         match (over_rock, cell.by_rover, cell.by_jumper) {
             (true, _, _) => accuracy.true_obstacle_cells += 1,
             (false, true, true) => accuracy.false_by_both += 1,
-            (false, false, true) => accuracy.false_by_jumper += 1,
+            (false, false, true) => {
+                accuracy.false_by_jumper += 1;
+                let beside_rock = rocks.iter().any(|rock| {
+                    rock.height_m > blocking_height_m
+                        && to_square(cell, rock.center_m) <= rock.radius_m + MISPLACEMENT_REACH_M
+                });
+                if beside_rock {
+                    accuracy.false_by_jumper_misplaced += 1;
+                }
+            }
             (false, _, false) => accuracy.false_by_rover += 1,
         }
     }
@@ -175,6 +195,36 @@ mod tests {
         assert_eq!(accuracy.false_obstacle_cells(), 3);
         assert_eq!(accuracy.blocking_rocks_near_track, 1);
         assert_eq!(accuracy.blocking_rocks_found, 1);
+    }
+
+    #[test]
+    fn a_false_jumper_cell_beside_an_unclimbable_rock_counts_as_misplaced() {
+        let rocks = [
+            RockFootprint {
+                center_m: [2.0, 2.0],
+                radius_m: 0.5,
+                height_m: 0.8,
+            },
+            // Climbable: a false cell beside it is not a shifted obstacle.
+            RockFootprint {
+                center_m: [20.0, 2.0],
+                radius_m: 0.3,
+                height_m: 0.15,
+            },
+        ];
+        let cells = [
+            // 2 m beyond the rock's edge: shifted.
+            cell(4.75, 2.25, false, true),
+            // 6 m away: invented.
+            cell(8.75, 2.25, false, true),
+            cell(21.25, 2.25, false, true),
+            // The rover's false cells are not the jumper's pose error.
+            cell(4.75, 2.75, true, false),
+        ];
+        let accuracy = evaluate(&rocks, &cells, &[], 0.5, 0.1, 0.2);
+        assert_eq!(accuracy.false_by_jumper, 3);
+        assert_eq!(accuracy.false_by_jumper_misplaced, 1);
+        assert_eq!(accuracy.false_by_rover, 1);
     }
 
     #[test]

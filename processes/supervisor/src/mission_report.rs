@@ -76,11 +76,12 @@ impl MissionReport {
         if let Some(accuracy) = &self.map_accuracy {
             writeln!(
                 out,
-                "map vs truth: {} obstacle cells on rocks, {} false (rover {}, jumper {}, both {}); rocks the rover cannot climb near its track: {} of {} mapped",
+                "map vs truth: {} obstacle cells on rocks, {} false (rover {}, jumper {} of which {} beside a rock, both {}); rocks the rover cannot climb near its track: {} of {} mapped",
                 accuracy.true_obstacle_cells,
                 accuracy.false_obstacle_cells(),
                 accuracy.false_by_rover,
                 accuracy.false_by_jumper,
+                accuracy.false_by_jumper_misplaced,
                 accuracy.false_by_both,
                 accuracy.blocking_rocks_found,
                 accuracy.blocking_rocks_near_track

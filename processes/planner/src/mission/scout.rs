@@ -40,7 +40,9 @@ pub fn find_region_of_interest(
 /// along `path` (at or past `region_index`) within `hop_range_m`; a jumper already past it
 /// (it scouted ahead earlier) hops back to the path point nearest the region on the rover's
 /// side that lies [`BACK_HOP_MARGIN_M`] before it. Either way the hop is at least
-/// `min_hop_m` long.
+/// `min_hop_m` long. When that point is beyond one hop (the route moved far from where the
+/// jumper waits), the jumper hops to the path point nearest it within reach, if that gains
+/// at least half a minimum hop: the next request can then reach the region.
 pub(crate) fn choose_target(
     geometry: &MapGeometry,
     path: &[Cell],
@@ -61,20 +63,29 @@ pub(crate) fn choose_target(
         let hop_m = distance_m(*centre_m, jumper_m);
         (min_hop_m..=hop_range_m).contains(&hop_m)
     };
-    let target_m = if jumper_index <= region_index {
+    let region_m = geometry.center_of(*path.get(region_index)?);
+    let ideal_m = if jumper_index <= region_index {
         path.iter()
             .skip(region_index)
             .map(|&cell| geometry.center_of(cell))
             .rfind(|centre_m| distance_m(*centre_m, jumper_m) <= hop_range_m)
-            .filter(reachable)?
+            .unwrap_or(region_m)
     } else {
-        let region_m = geometry.center_of(*path.get(region_index)?);
         path[..region_index]
             .iter()
             .rev()
             .map(|&cell| geometry.center_of(cell))
-            .find(|centre_m| distance_m(*centre_m, region_m) >= BACK_HOP_MARGIN_M)
-            .filter(reachable)?
+            .find(|centre_m| distance_m(*centre_m, region_m) >= BACK_HOP_MARGIN_M)?
+    };
+    let target_m = if distance_m(ideal_m, jumper_m) <= hop_range_m {
+        Some(ideal_m).filter(reachable)?
+    } else {
+        let gap_m = |centre_m: &[f64; 2]| distance_m(*centre_m, ideal_m);
+        path.iter()
+            .map(|&cell| geometry.center_of(cell))
+            .filter(reachable)
+            .min_by(|a, b| gap_m(a).total_cmp(&gap_m(b)))
+            .filter(|centre_m| gap_m(centre_m) <= gap_m(&jumper_m) - 0.5 * min_hop_m)?
     };
     Some(ScoutDecision {
         region_index,
@@ -186,8 +197,9 @@ mod tests {
         assert_eq!(decision.target_m, [20.5, 10.5]);
         // The jumper is too close to the end of the path for a worthwhile hop.
         assert!(choose_target(&geometry, &path, 38, [37.5, 10.5], 20.0, 5.0).is_none());
-        // The region is out of reach.
-        assert!(choose_target(&geometry, &path, 35, [0.5, 10.5], 20.0, 5.0).is_none());
+        // The region is out of reach: one hop toward it, as far as the range allows.
+        let decision = choose_target(&geometry, &path, 35, [0.5, 10.5], 20.0, 5.0).unwrap();
+        assert_eq!(decision.target_m, [20.5, 10.5]);
     }
 
     #[test]
@@ -197,7 +209,8 @@ mod tests {
         // The jumper waits at the end of the path; the region starts at cell 20.
         let decision = choose_target(&geometry, &path, 20, [38.5, 10.5], 25.0, 5.0).unwrap();
         assert_eq!(decision.target_m, [17.5, 10.5], "3 m short of the region");
-        // Too far back for one hop.
-        assert!(choose_target(&geometry, &path, 20, [38.5, 10.5], 15.0, 5.0).is_none());
+        // Too far back for one hop: the jumper hops back as far as it can.
+        let decision = choose_target(&geometry, &path, 20, [38.5, 10.5], 15.0, 5.0).unwrap();
+        assert_eq!(decision.target_m, [23.5, 10.5]);
     }
 }

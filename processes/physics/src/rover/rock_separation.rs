@@ -17,14 +17,16 @@ const AWAY_OVERLAP_M: f32 = 0.05;
 /// A move slides along a touched rock when its step points toward the rock by at most this
 /// fraction of its length (about 6°) …
 const SLIDE_TOWARD_FRACTION: f32 = 0.1;
-/// … and it leaves the overlap no deeper than this (rounding), metres.
+/// … and it leaves the overlap no deeper than [`AWAY_OVERLAP_M`], or than now plus this
+/// (rounding), metres.
 const SLIDE_DEPTH_TOLERANCE_M: f32 = 1e-5;
 
 /// True when a rover at `current`, touching or overlapping the blocking rock compound `rock`,
 /// may go to `next`: the move reduces the overlap by at least `min_reduction_m`; or it steps
 /// away from the rock (against the contact normal) and leaves an overlap of at most
 /// [`AWAY_OVERLAP_M`] (or no deeper than now); or it slides along the rock
-/// ([`SLIDE_TOWARD_FRACTION`]) no deeper. The footprint box reaches below the ground, so a wheel rolling off a small rock
+/// ([`SLIDE_TOWARD_FRACTION`]) under the same bound. The footprint box reaches below the
+/// ground, so a wheel rolling off a small rock
 /// pitches its lower corners a few centimetres into a big rock the rover touches; without
 /// the second rule, backing away from it was refused and the rover wedged for good. Without
 /// the third, a rover whose flank overlapped a rock beside it could not drive on along it: the
@@ -32,6 +34,9 @@ const SLIDE_DEPTH_TOLERANCE_M: f32 = 1e-5;
 /// (compare seed 13 froze for 120 s). The second rule once bounded each step's growth of the
 /// overlap instead of the overlap: a rover reversing in a turn stepped "away" while a corner
 /// swung 1–3 mm deeper every substep, and ended 16.5 cm into a rock, frozen (compare seed 20).
+/// The third rule once allowed no deepening at all: a rover 3 cm into a rock at its flank,
+/// steering a few milliradians as it drove on along it, deepened by 0.1 mm a substep, and
+/// every move, forward, back or turning, was refused for 290 s (boulder-fields seed 8).
 pub(super) fn separates_from_rock(
     pw: &PhysicsWorld,
     rock: ColliderHandle,
@@ -66,7 +71,7 @@ pub(super) fn separates_from_rock(
     let toward_m = step.dot(now.normal1);
     let away = toward_m < 0.0 && next_depth_m <= current_depth_m.max(AWAY_OVERLAP_M);
     let slides = toward_m <= SLIDE_TOWARD_FRACTION * step.length()
-        && next_depth_m <= current_depth_m + SLIDE_DEPTH_TOLERANCE_M;
+        && next_depth_m <= (current_depth_m + SLIDE_DEPTH_TOLERANCE_M).max(AWAY_OVERLAP_M);
     away || slides
 }
 
@@ -111,6 +116,45 @@ mod tests {
         assert!(!may(moved(0.0025, 0.0005)));
         assert!(!may(moved(0.0, 0.0025)));
         assert!(may(moved(0.0, -0.0025)));
+    }
+
+    #[test]
+    fn driving_on_along_a_rock_while_steering_a_little_may_deepen_only_to_the_bound() {
+        // The rock touches the flank 0.3 m ahead of the middle; each substep drives 2.5 mm on
+        // and yaws 2 mrad toward it, which swings the flank 0.6 mm deeper.
+        let (pw, rock, footprint, mut current) = rock_beside_the_flank(0.3);
+        let step = |pose: &Pose| {
+            Pose::from_parts(
+                pose.translation + Vec3::new(0.0025, 0.0, 0.0),
+                (Quat::from_rotation_z(0.002) * pose.rotation).normalize(),
+            )
+        };
+        let first = step(&current);
+        assert!(
+            depth_m(&pw, rock, &footprint, &first) > depth_m(&pw, rock, &footprint, &current),
+            "the test no longer deepens"
+        );
+        assert!(
+            separates_from_rock(&pw, rock, &footprint, (&current, &first), 1e-4),
+            "a slight steer along the rock froze the rover"
+        );
+        let mut deepest_m: f32 = 0.0;
+        for _ in 0..400 {
+            let next = step(&current);
+            if !separates_from_rock(&pw, rock, &footprint, (&current, &next), 1e-4) {
+                break;
+            }
+            current = next;
+            deepest_m = deepest_m.max(depth_m(&pw, rock, &footprint, &current));
+        }
+        assert!(
+            deepest_m > 0.04,
+            "the test no longer nears the bound: {deepest_m} m"
+        );
+        assert!(
+            deepest_m <= AWAY_OVERLAP_M + 0.001,
+            "ratcheted {deepest_m} m into the rock"
+        );
     }
 
     #[test]

@@ -59,3 +59,38 @@ fn two_concurrent_launches_do_not_interfere() {
         );
     }
 }
+
+#[test]
+fn a_second_launch_with_a_live_run_id_is_refused_and_the_first_goes_on() {
+    let out = out_dir("same-id");
+    let run = run_id("same-id");
+    // Real time, 100 frames at 10 Hz: running for ~10 s, long enough to be found alive.
+    let first = launch_command(&out, &run, &[&probe_config(), "--frames", "100"])
+        .spawn()
+        .expect("spawn");
+    let started = out.join(&run).join("config.toml");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !started.exists() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(started.exists(), "the first launch never started");
+    let second_out = out_dir("same-id-second");
+    let second = launch(&second_out, &run, &[&probe_config(), "--frames", "20"]);
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert!(!second.status.success(), "the second launch ran: {stderr}");
+    assert!(
+        stderr.contains("is in use by a launch that is still running"),
+        "{stderr}"
+    );
+    assert!(
+        !second_out.join(&run).exists(),
+        "the refused launch wrote a run folder"
+    );
+    let output = first.wait_with_output().expect("wait");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(report(&out, &run)["outcome"], "completed");
+}

@@ -34,6 +34,19 @@ pub enum NamespaceError {
     /// A node name iceoryx2 refuses.
     #[error("node name {0:?} is not valid for iceoryx2")]
     BadNodeName(String),
+    /// Another live launch holds this run id: the two would share every topic.
+    #[error("run id {0:?} is in use by a launch that is still running (choose another --run-id)")]
+    RunIdInUse(String),
+    /// The run id's claim file could not be made.
+    #[error("cannot claim run id {run_id:?} ({path}): {source}")]
+    Claim {
+        /// Run id.
+        run_id: String,
+        /// Claim file.
+        path: PathBuf,
+        /// OS error.
+        source: std::io::Error,
+    },
     /// iceoryx2 could not create the node.
     #[error("could not create node {name:?}: {reason}")]
     NodeCreation {
@@ -82,6 +95,33 @@ impl Namespace {
         self.config.global.node.cleanup_dead_nodes_on_creation = false;
         self.config.global.service.cleanup_dead_nodes_on_open = false;
         self
+    }
+
+    /// Claims the run id for this process until the claim is dropped: two launches with the
+    /// same run id share every topic and drive each other's rover (an advisory lock, freed by
+    /// the OS when the process dies however it dies).
+    pub fn claim(&self) -> Result<RunIdClaim, NamespaceError> {
+        let dir = Path::new(ROOT_PATH).join(CLAIM_DIRECTORY);
+        let path = dir.join(format!("{}.lock", self.run_id));
+        let claim_error = |source| NamespaceError::Claim {
+            run_id: self.run_id.clone(),
+            path: path.clone(),
+            source,
+        };
+        std::fs::create_dir_all(&dir).map_err(claim_error)?;
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(claim_error)?;
+        match file.try_lock() {
+            Ok(()) => Ok(RunIdClaim { file, path }),
+            Err(std::fs::TryLockError::WouldBlock) => {
+                Err(NamespaceError::RunIdInUse(self.run_id.clone()))
+            }
+            Err(std::fs::TryLockError::Error(source)) => Err(claim_error(source)),
+        }
     }
 
     /// The run id this namespace belongs to.
@@ -179,6 +219,24 @@ impl Namespace {
             .into_iter()
             .filter(|path| file_name_starts_with(path, &prefix))
             .collect()
+    }
+}
+
+/// Folder of the run-id claim files, under [`ROOT_PATH`].
+const CLAIM_DIRECTORY: &str = "claims";
+
+/// A run id held by this process (see [`Namespace::claim`]); dropping it frees the run id.
+#[derive(Debug)]
+pub struct RunIdClaim {
+    file: std::fs::File,
+    path: PathBuf,
+}
+
+impl Drop for RunIdClaim {
+    fn drop(&mut self) {
+        // Best effort: the lock goes with the file handle; the empty file is only tidied up.
+        let _ = self.file.unlock();
+        let _ = std::fs::remove_file(&self.path);
     }
 }
 

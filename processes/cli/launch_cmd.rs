@@ -26,7 +26,8 @@ pub struct LaunchArgs {
     /// Folder for run folders (overrides run.out_dir); the report goes to OUT/<run id>/.
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Use this run id instead of a fresh one ([A-Za-z0-9-], for tooling and tests).
+    /// Use this run id instead of a fresh one ([A-Za-z0-9-], for tooling and tests); refused
+    /// while another launch runs under it.
     #[arg(long)]
     run_id: Option<String>,
     /// Record the camera streams (PGM + CSV index), sensor CSVs, intrinsics and TUM ground

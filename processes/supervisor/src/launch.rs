@@ -101,6 +101,9 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     }
 
     let run_id = options.run_id.clone().unwrap_or_else(namespace::new_run_id);
+    // Before the run folder: a second launch with a live run id must not touch the first's.
+    let namespace = Namespace::new(&run_id)?;
+    let _claim = namespace.claim()?;
     let run_dir = Path::new(&config.run.out_dir).join(&run_id);
     std::fs::create_dir_all(&run_dir).map_err(|source| LaunchError::RunDir {
         path: run_dir.clone(),
@@ -115,7 +118,6 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     })?;
     let config_path = std::fs::canonicalize(&config_path).unwrap_or(config_path);
 
-    let namespace = Namespace::new(&run_id)?;
     let frames = config.run.frames as usize;
     let slots: Vec<Slot> = enabled
         .into_iter()

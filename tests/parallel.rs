@@ -69,11 +69,10 @@ fn a_second_launch_with_a_live_run_id_is_refused_and_the_first_goes_on() {
         .spawn()
         .expect("spawn");
     let started = out.join(&run).join("config.toml");
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
-    while !started.exists() && std::time::Instant::now() < deadline {
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    assert!(started.exists(), "the first launch never started");
+    assert!(
+        wait_until(std::time::Duration::from_secs(60), || started.exists()),
+        "the first launch never started"
+    );
     let second_out = out_dir("same-id-second");
     let second = launch(&second_out, &run, &[&probe_config(), "--frames", "20"]);
     let stderr = String::from_utf8_lossy(&second.stderr);

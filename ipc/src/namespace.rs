@@ -234,9 +234,10 @@ pub struct RunIdClaim {
 
 impl Drop for RunIdClaim {
     fn drop(&mut self) {
-        // Best effort: the lock goes with the file handle; the empty file is only tidied up.
-        let _ = self.file.unlock();
+        // Best effort: the lock goes with the file handle; the empty file is only tidied up,
+        // and removed while still locked, so no launch that opened it can take it over.
         let _ = std::fs::remove_file(&self.path);
+        let _ = self.file.unlock();
     }
 }
 

@@ -36,6 +36,9 @@ pub enum Rejection {
     /// A dimension is zero or inconsistent (e.g. stride shorter than a row).
     #[error("bad dimensions: {0}")]
     BadDimensions(&'static str),
+    /// Two fields contradict each other.
+    #[error("inconsistent fields: {0}")]
+    Inconsistent(&'static str),
     /// The sequence number did not increase for this publisher.
     #[error("sequence {received} does not follow {last} from the same publisher")]
     StaleSequence {
@@ -306,7 +309,13 @@ stamped!(MapHeader, |header| {
     Ok(())
 });
 stamped!(PathHeader, |header| {
-    known("state", header.state, MissionState::from_code)
+    known("state", header.state, MissionState::from_code)?;
+    if header.route_change_count > header.replan_count {
+        return Err(Rejection::Inconsistent(
+            "route_change_count exceeds replan_count (route changes are replans)",
+        ));
+    }
+    Ok(())
 });
 
 impl SliceHeader for ImageHeader {

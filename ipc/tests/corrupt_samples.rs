@@ -415,3 +415,24 @@ fn sequence_guard_with_huge_capacity_does_not_preallocate() {
     assert_eq!(guard.check(1_u32, 1), Ok(()));
     assert!(guard.check(1_u32, 1).is_err());
 }
+
+#[test]
+fn path_header_with_more_route_changes_than_replans_is_rejected() {
+    let header = PathHeader {
+        replan_count: 3,
+        route_change_count: 4,
+        ..path_header()
+    };
+    assert!(matches!(
+        header.validate_slice(&[PathPoint::default(); 3]),
+        Err(Rejection::Inconsistent(_))
+    ));
+    let consistent = PathHeader {
+        route_change_count: 3,
+        ..header
+    };
+    assert_eq!(
+        consistent.validate_slice(&[PathPoint::default(); 3]),
+        Ok(())
+    );
+}

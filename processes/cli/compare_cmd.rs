@@ -251,7 +251,7 @@ fn print_table(rows: &[CompareRow]) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
         out,
-        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>8} {:>11} {:>7} {:>6} {:>10}",
+        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7} {:>6} {:>10}",
         "seed",
         "k",
         "mode",
@@ -259,6 +259,7 @@ fn print_table(rows: &[CompareRow]) {
         "path m",
         "best m",
         "replans",
+        "routes",
         "expansions",
         "time s",
         "hops",
@@ -269,7 +270,7 @@ fn print_table(rows: &[CompareRow]) {
             Some(mission) => {
                 let _ = writeln!(
                     out,
-                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>8} {:>11} {:>7.1} {:>6} {:>10}",
+                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>8} {:>7} {:>11} {:>7.1} {:>6} {:>10}",
                     row.seed,
                     row.golombek_k,
                     row.mode,
@@ -277,6 +278,7 @@ fn print_table(rows: &[CompareRow]) {
                     mission.executed_path_m,
                     fmt_opt(mission.full_knowledge_path_m),
                     mission.replans,
+                    mission.route_changes,
                     mission.node_expansions,
                     mission.mission_time_s,
                     mission.jumper_hops,
@@ -305,7 +307,7 @@ fn print_table(rows: &[CompareRow]) {
             .count();
         let _ = writeln!(
             out,
-            "{:<12} success {reached}/{total}, mean path {} m, mean replans {}, mean expansions {}",
+            "{:<12} success {reached}/{total}, mean path {} m, mean replans {} (of them moving the route {}), mean expansions {}",
             mode.name(),
             fmt_opt(mean(
                 of_mode(mode)
@@ -313,6 +315,7 @@ fn print_table(rows: &[CompareRow]) {
                     .map(|(_, m)| m.executed_path_m)
             )),
             fmt_opt(mean(of_mode(mode).map(|(_, m)| m.replans as f64))),
+            fmt_opt(mean(of_mode(mode).map(|(_, m)| m.route_changes as f64))),
             fmt_opt(mean(of_mode(mode).map(|(_, m)| m.node_expansions as f64))),
         );
     }
@@ -331,19 +334,26 @@ fn print_table(rows: &[CompareRow]) {
     let best_m = mean(pairs.iter().filter_map(|(_, r)| r.full_knowledge_path_m));
     let replan_ratio = mean(pairs.iter().map(|(c, _)| c.replans as f64))
         .zip(mean(pairs.iter().map(|(_, r)| r.replans as f64)));
-    if let (Some((cooperative_m, rover_m)), Some((cooperative_replans, rover_replans))) =
-        (path_ratio, replan_ratio)
-    {
+    let route_ratio = mean(pairs.iter().map(|(c, _)| c.route_changes as f64))
+        .zip(mean(pairs.iter().map(|(_, r)| r.route_changes as f64)));
+    let fewer_percent = |(cooperative, rover_only): (f64, f64)| {
+        if rover_only > 0.0 {
+            100.0 * (1.0 - cooperative / rover_only)
+        } else {
+            0.0
+        }
+    };
+    if let (Some((cooperative_m, rover_m)), Some(replans)) = (path_ratio, replan_ratio) {
         let _ = writeln!(
             out,
-            "paired over {} seeds both reached: cooperative path {:.1}% shorter (target >= 15%), {:.1}% fewer replans (target >= 30%)",
+            "paired over {} seeds both reached: cooperative path {:.1}% shorter (target >= 15%), {:.1}% fewer replans (target >= 30%); {} route changes",
             pairs.len(),
             100.0 * (1.0 - cooperative_m / rover_m.max(1e-9)),
-            if rover_replans > 0.0 {
-                100.0 * (1.0 - cooperative_replans / rover_replans)
-            } else {
-                0.0
-            }
+            fewer_percent(replans),
+            route_ratio.map_or("-".to_owned(), |routes| format!(
+                "{:.1}% fewer",
+                fewer_percent(routes)
+            ))
         );
         if let Some(best_m) = best_m {
             let _ = writeln!(
@@ -368,12 +378,12 @@ fn fmt_opt(value: Option<f64>) -> String {
 
 fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
     let mut csv = String::from(
-        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,replans,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
+        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,replans,route_changes,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
     );
     for row in rows {
         let mission = row.mission.as_ref();
         csv.push_str(&format!(
-            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.seed,
             row.golombek_k,
             row.mode,
@@ -384,6 +394,7 @@ fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
                 .and_then(|m| m.full_knowledge_path_m)
                 .map_or(String::new(), |m| format!("{m:.3}")),
             mission.map_or(String::new(), |m| m.replans.to_string()),
+            mission.map_or(String::new(), |m| m.route_changes.to_string()),
             mission.map_or(String::new(), |m| m.node_expansions.to_string()),
             mission.map_or(String::new(), |m| format!("{:.2}", m.mission_time_s)),
             mission.map_or(String::new(), |m| m.jump_requests.to_string()),

@@ -29,6 +29,8 @@ pub struct PathHeader {
     pub cost: u64,
     /// Replans so far.
     pub replan_count: u64,
+    /// Replans so far after which the route moved, not only its cost.
+    pub route_change_count: u64,
     /// Node expansions of the last replan.
     pub expansions: u64,
     /// Node expansions of all replans so far.
@@ -54,5 +56,5 @@ pub struct PathPoint {
     pub y_m: f64,
 }
 
-const _: () = assert!(size_of::<PathHeader>() == 80);
+const _: () = assert!(size_of::<PathHeader>() == 88);
 const _: () = assert!(size_of::<PathPoint>() == 16);

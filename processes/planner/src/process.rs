@@ -226,6 +226,7 @@ impl PlannerProcess {
                 header.stamp = stamp;
                 header.cost = counters.path_cost;
                 header.replan_count = counters.replans;
+                header.route_change_count = counters.route_changes;
                 header.expansions = counters.last_expansions;
                 header.total_expansions = counters.total_expansions;
                 header.point_count = len as u32;

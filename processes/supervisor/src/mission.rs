@@ -251,6 +251,7 @@ impl MissionObserver {
             straight_line_m,
             final_distance_to_goal_m: distance_to_goal_m,
             replans: header.replan_count,
+            route_changes: header.route_change_count,
             node_expansions: header.total_expansions,
             jump_requests: header.jump_requests,
             jumper_hops: self.hops.hops(),

@@ -23,6 +23,10 @@ pub struct MissionReport {
     pub final_distance_to_goal_m: Option<f64>,
     /// Replans forced by map changes on the path being followed.
     pub replans: u64,
+    /// Of them, replans after which the rover's route moved (more than a cell off the old
+    /// one), not only its cost.
+    #[serde(default)]
+    pub route_changes: u64,
     /// D* Lite node expansions over the mission.
     pub node_expansions: u64,
     /// Hops the rover asked the jumper for.
@@ -53,7 +57,7 @@ impl MissionReport {
         let distance = |value: Option<f64>| value.map_or("-".to_owned(), |m| format!("{m:.1} m"));
         writeln!(
             out,
-            "mission ({}): {} after {:.1} s — rover drove {:.1} m (A–B {}), {} to go; {} replans, {} expansions, {} jump requests, {} hops, {} collisions; map {} cells ({} obstacle, {} inflated)",
+            "mission ({}): {} after {:.1} s — rover drove {:.1} m (A–B {}), {} to go; {} replans ({} moved the route), {} expansions, {} jump requests, {} hops, {} collisions; map {} cells ({} obstacle, {} inflated)",
             self.mode,
             if self.goal_reached {
                 "goal reached".to_owned()
@@ -65,6 +69,7 @@ impl MissionReport {
             distance(self.straight_line_m),
             distance(self.final_distance_to_goal_m),
             self.replans,
+            self.route_changes,
             self.node_expansions,
             self.jump_requests,
             self.jumper_hops,

@@ -6,6 +6,7 @@
 //!   back it off and mark the cell ahead.
 //! - [`navigator`]: replans on map changes and rover motion, picks the next waypoint, decides
 //!   when the goal is reached or unreachable.
+//! - [`route_change`]: whether a replan moved the route or only re-priced it.
 //! - [`scout`]: the paper's cooperative rule: when the path runs into unknown cells beyond the
 //!   rover's sensing range or behind an obstacle, request a hop that flies over them.
 //! - [`scout_batch`]: a hop's jumper-only cells, held until its clouds stop coming.
@@ -24,6 +25,7 @@ mod bumper;
 mod config;
 mod geometry;
 mod navigator;
+mod route_change;
 mod scout;
 mod scout_batch;
 
@@ -34,5 +36,6 @@ pub use navigator::{
     DOUBTFUL_OBSTACLE_COST, Decision, MapChange, MissionStatus, NavigationError, Navigator,
     NavigatorCounters,
 };
+pub use route_change::{ROUTE_TOLERANCE_CELLS, route_moved};
 pub use scout::{ScoutDecision, find_region_of_interest};
 pub use scout_batch::{SCOUT_BATCH_MAX_AGE_S, SCOUT_BATCH_QUIET_S};

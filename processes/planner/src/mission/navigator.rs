@@ -4,6 +4,7 @@
 use super::bumper::{Bumper, BumperEvent, RoverPose};
 use super::config::NavigatorConfig;
 use super::geometry::MapGeometry;
+use super::route_change::route_moved;
 use super::scout::{self, ScoutDecision, distance_m};
 use super::scout_batch::{SCOUT_BATCH_URGENT_AHEAD_M, ScoutBatch};
 use crate::cost::{Cost, MOVES, neighbour, path_cost};
@@ -64,6 +65,9 @@ pub struct Decision {
 pub struct NavigatorCounters {
     /// Searches forced by map changes that altered the cost of the path being followed.
     pub replans: u64,
+    /// Replans after which the rover follows a different way (see [`route_moved`]), not
+    /// only a re-priced one.
+    pub route_changes: u64,
     /// Node expansions over all searches (the first plan included).
     pub total_expansions: u64,
     /// Node expansions of the last search.
@@ -143,6 +147,10 @@ pub struct Navigator {
     scouted: ScoutBatch,
     counters: NavigatorCounters,
     last_request_s: f64,
+    /// The path before the last extraction (a reused buffer).
+    previous_path: Vec<Cell>,
+    /// Map changes invalidated the path since it was last extracted: compare the next one.
+    route_check_pending: bool,
     /// Stall detection and backing off.
     bumper: Bumper,
     /// The last decision drove forward (the bumper only judges commanded motion).
@@ -198,6 +206,8 @@ impl Navigator {
             scouted: ScoutBatch::default(),
             counters: NavigatorCounters::default(),
             last_request_s: 0.0,
+            previous_path: Vec::with_capacity(cell_count.min(1 << 16)),
+            route_check_pending: false,
             bumper,
             driving: false,
             bumped: Vec::new(),
@@ -392,6 +402,7 @@ impl Navigator {
             self.mark_bumped_ahead(rover, obstacle_m, rover_cell);
         }
         let replanned = self.apply_pending()?;
+        self.route_check_pending |= replanned;
         if let Some(waypoint_m) = self.bumper.back_off_waypoint() {
             self.driving = false;
             return Ok(Decision {
@@ -440,9 +451,15 @@ impl Navigator {
             }
             Err(error) => return Err(NavigationError::Plan(error)),
         }
+        std::mem::swap(&mut self.path, &mut self.previous_path);
         self.path.clear();
         if let Some(path) = self.planner.path() {
             self.path.extend(path);
+        }
+        if std::mem::take(&mut self.route_check_pending)
+            && route_moved(&self.previous_path, &self.path)
+        {
+            self.counters.route_changes += 1;
         }
         let waypoint_m = self.waypoint(rover_m);
         let scout = self.scout(rover_m, jumper_m, time_s);

@@ -451,3 +451,19 @@ fn the_rovers_word_on_a_cell_supersedes_a_held_jumper_one() {
     assert_eq!(navigator.grid().state(cell), Some(CellState::Free));
     assert_eq!(navigator.grid().extra_cost(cell), Some(300));
 }
+
+#[test]
+fn a_costlier_cell_on_the_route_is_a_replan_and_a_rock_across_it_a_route_change() {
+    let (mut navigator, rover) = planned_on_an_unknown_map();
+    // Dearer, but not by as much as stepping around it: the same route at a higher price.
+    navigator.queue_changes([CellChange::new(Cell::new(20, 10), CellState::Free, 300)]);
+    assert!(navigator.step(rover, None, 0.1).unwrap().replanned);
+    assert_eq!(navigator.counters().replans, 1);
+    assert_eq!(navigator.counters().route_changes, 0);
+    // A rock the rover's stereo saw across the route: it goes another way.
+    navigator
+        .queue_changes((6..15).map(|y| CellChange::new(Cell::new(30, y), CellState::Obstacle, 0)));
+    assert!(navigator.step(rover, None, 0.2).unwrap().replanned);
+    assert_eq!(navigator.counters().replans, 2);
+    assert_eq!(navigator.counters().route_changes, 1);
+}

@@ -18,6 +18,12 @@ pub enum EvalCommand {
     /// Rover stereo VO on a rendered ~56 m traverse of the default terrain (IMU roll/pitch
     /// prior): drift in % of distance, ATE (Sim(3), SE(3)), RPE; TUM files and a top-view PNG.
     RoverVo(crate::rover_vo_cmd::RoverVoEvalArgs),
+    /// Jumper keyframe clouds on Table 1 hops over seeded rocky worlds: each point's viewing
+    /// ray is cast from the true camera to find the surface it came from; prints the height
+    /// noise on bare ground (and whether the clouds' sigmas are honest) and, per true rock
+    /// height, how many rock points the mapper's rule calls high. Writes
+    /// eval_jumper_clouds.json.
+    JumperClouds(crate::jumper_clouds_cmd::JumperCloudsArgs),
 }
 
 #[derive(Debug, Args)]
@@ -37,6 +43,7 @@ pub struct VoArgs {
 pub fn run(command: EvalCommand) -> ExitCode {
     match command {
         EvalCommand::RoverVo(args) => crate::rover_vo_cmd::eval(args),
+        EvalCommand::JumperClouds(args) => crate::jumper_clouds_cmd::run(args),
         EvalCommand::Vo(args) => match match &args.dataset {
             Some(dataset) => vo_dataset(dataset, &args.out),
             None => vo(&args),

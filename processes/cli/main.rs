@@ -5,6 +5,7 @@ mod bench_cmd;
 mod chaos_cmd;
 mod compare_cmd;
 mod eval_cmd;
+mod jumper_clouds_cmd;
 mod launch_cmd;
 mod plan_cmd;
 mod registry;

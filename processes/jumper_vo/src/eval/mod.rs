@@ -2,8 +2,10 @@
 //! RPE, final position error, TUM files and a Fig.-5-style PNG.
 //!
 //! [`run_hop`] feeds a [`SimulatedHop`] frame by frame through [`JumperVo`] and times
-//! `process_frame`; [`evaluate`] computes the metrics.
+//! `process_frame`; [`evaluate`] computes the metrics. [`cloud_heights`] judges the keyframe
+//! clouds' heights against the world they were rendered from.
 
+pub mod cloud_heights;
 pub mod dataset;
 pub mod plot;
 

@@ -1,0 +1,464 @@
+//! How well the jumper's keyframe clouds measure heights above the ground, against the world
+//! they were rendered from: the noise on bare ground, whether the clouds' height sigmas are
+//! honest, and how many points on rocks of each height the mapper's rule would call high.
+//!
+//! Each point is matched to the surface it came from by casting its viewing ray from the
+//! **true** camera centre of the cloud's first keyframe: the ray direction is good to a pixel,
+//! while the point's range (and the estimated keyframe pose) carry the errors under test. The
+//! surface is the terrain and the rocks' meshes, as the camera renders them.
+
+use hopnav_world::World;
+use hopnav_world::mesh::{TriMesh, rock_mesh};
+use nalgebra::{Isometry3, Point3, Vector3};
+use std::collections::HashMap;
+
+use super::HopRun;
+use crate::simulate::SimulatedHop;
+
+/// The mapper's test for a jumper point (defaults: `config/default.toml`'s `[mapper]`). Its
+/// height sigma is the depth sigma times the vertical part of the ray from the pose the
+/// cloud is published with (the second keyframe's) to the point, as the mapper computes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HighRule {
+    /// Points whose depth sigma exceeds this are dropped, metres.
+    pub max_depth_sigma_m: f64,
+    /// A point is high above `traversable_height_m + sigma_factor · height sigma`, metres.
+    pub traversable_height_m: f64,
+    /// Height sigmas of margin.
+    pub sigma_factor: f64,
+}
+
+impl Default for HighRule {
+    fn default() -> Self {
+        Self {
+            max_depth_sigma_m: 0.25,
+            traversable_height_m: 0.15,
+            sigma_factor: 2.0,
+        }
+    }
+}
+
+/// Upper edges of the true-height classes of rock points, metres (the last class is open).
+pub const HEIGHT_CLASS_EDGES_M: [f64; 3] = [0.15, 0.3, 0.5];
+
+/// Points on rock surfaces whose true height above the ground falls in one class.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct HeightClass {
+    /// Points in the class.
+    pub points: usize,
+    /// Of them, called high by the [`HighRule`].
+    pub called_high: usize,
+    /// Sum of their estimated heights above the ground, metres.
+    pub estimated_sum_m: f64,
+    /// Sum of their true heights above the ground, metres.
+    pub true_sum_m: f64,
+}
+
+/// Totals over any number of hops.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct CloudHeightStats {
+    /// Keyframe clouds evaluated.
+    pub clouds: usize,
+    /// Points with a height and a sigma under the rule's limit.
+    pub points: usize,
+    /// Points whose ray hit no surface within [`MAX_RAY_M`].
+    pub unmatched: usize,
+    /// Points on bare ground at least [`GROUND_CLEARANCE_M`] from any rock's footprint.
+    pub ground_points: usize,
+    /// Sum of squared estimated heights of the ground points, m².
+    pub ground_height_sq_sum_m2: f64,
+    /// Sum of squared (estimated height / height sigma) of the ground points.
+    pub ground_z_sq_sum: f64,
+    /// Ground points called high (false obstacles before the mapper's cloud vote).
+    pub ground_called_high: usize,
+    /// Rock points by true height, classes split at [`HEIGHT_CLASS_EDGES_M`].
+    pub rock_classes: [HeightClass; 4],
+}
+
+/// Rays are followed this far from the camera, metres.
+pub const MAX_RAY_M: f64 = 80.0;
+/// Step of the terrain march, metres.
+const RAY_STEP_M: f64 = 0.02;
+/// A ground point lies at least this far from every rock's bounding circle, metres.
+pub const GROUND_CLEARANCE_M: f64 = 0.5;
+
+impl CloudHeightStats {
+    /// RMS of the ground points' estimated heights (truth: 0), metres.
+    pub fn ground_rms_m(&self) -> Option<f64> {
+        (self.ground_points > 0)
+            .then(|| (self.ground_height_sq_sum_m2 / self.ground_points as f64).sqrt())
+    }
+
+    /// RMS of the ground points' heights in units of their own sigma (1 = honest sigmas).
+    pub fn ground_z_rms(&self) -> Option<f64> {
+        (self.ground_points > 0).then(|| (self.ground_z_sq_sum / self.ground_points as f64).sqrt())
+    }
+
+    /// Adds one hop's clouds: `run` is the VO over `hop`, rendered from `world`.
+    pub fn add_hop(&mut self, world: &World, hop: &SimulatedHop, run: &HopRun, rule: &HighRule) {
+        let surface = TruthSurface::new(world);
+        let mut keyframe_index = 0;
+        for (index, out) in run.outputs.iter().enumerate() {
+            let first = keyframe_index;
+            if out.is_keyframe {
+                keyframe_index = index;
+            }
+            let Some(cloud) = &out.cloud else {
+                continue;
+            };
+            let (Some(truth), Some(estimate)) =
+                (hop.truth_world_from_body.get(first), run.outputs.get(first))
+            else {
+                continue;
+            };
+            let true_camera = truth * hop.body_from_camera;
+            let estimated_camera = estimate.world_from_body * hop.body_from_camera;
+            let published_from_m = out.world_from_body.translation.vector;
+            self.clouds += 1;
+            for point in cloud {
+                let to_point = point.position_m.coords - published_from_m;
+                let vertical = to_point.z.abs() / to_point.norm().max(1e-9);
+                let height_sigma_m = point.depth_sigma_m * vertical;
+                self.add_point(
+                    &surface,
+                    (&true_camera, &estimated_camera),
+                    point,
+                    height_sigma_m,
+                    rule,
+                );
+            }
+        }
+    }
+
+    /// `cameras`: the cloud's first keyframe camera, true and estimated.
+    fn add_point(
+        &mut self,
+        surface: &TruthSurface<'_>,
+        (true_camera, estimated_camera): (&Isometry3<f64>, &Isometry3<f64>),
+        point: &crate::cloud::WorldPoint,
+        height_sigma_m: f64,
+        rule: &HighRule,
+    ) {
+        let Some(height_m) = point.height_above_ground_m else {
+            return;
+        };
+        // NaN sigmas fail this too.
+        let usable = point.depth_sigma_m <= rule.max_depth_sigma_m && height_m.is_finite();
+        if !usable {
+            return;
+        }
+        self.points += 1;
+        // The point as seen from the keyframe camera, put under the true camera.
+        let in_camera = estimated_camera.inverse() * point.position_m;
+        let ray = true_camera.rotation * in_camera.coords;
+        let range_m = ray.norm();
+        if range_m <= 0.0 {
+            self.unmatched += 1;
+            return;
+        }
+        let called_high = height_m > rule.traversable_height_m + rule.sigma_factor * height_sigma_m;
+        let origin = true_camera.translation.vector;
+        let Some(hit) = surface.cast(&Point3::from(origin), &(ray / range_m)) else {
+            self.unmatched += 1;
+            return;
+        };
+        match hit {
+            SurfaceHit::Ground { rock_clearance_m } => {
+                if rock_clearance_m >= GROUND_CLEARANCE_M {
+                    self.ground_points += 1;
+                    self.ground_height_sq_sum_m2 += height_m * height_m;
+                    let z = height_m / height_sigma_m.max(1e-3);
+                    self.ground_z_sq_sum += z * z;
+                    self.ground_called_high += usize::from(called_high);
+                }
+            }
+            SurfaceHit::Rock { true_height_m } => {
+                let class = HEIGHT_CLASS_EDGES_M
+                    .iter()
+                    .position(|&edge| true_height_m < edge)
+                    .unwrap_or(HEIGHT_CLASS_EDGES_M.len());
+                if let Some(entry) = self.rock_classes.get_mut(class) {
+                    entry.points += 1;
+                    entry.called_high += usize::from(called_high);
+                    entry.estimated_sum_m += height_m;
+                    entry.true_sum_m += true_height_m;
+                }
+            }
+        }
+    }
+}
+
+/// What a viewing ray hit first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SurfaceHit {
+    /// Bare terrain, this far from the nearest rock's bounding circle, metres.
+    Ground {
+        /// Distance to the nearest rock's bounding circle (∞ without rocks), metres.
+        rock_clearance_m: f64,
+    },
+    /// A rock's surface, this high above the terrain under it, metres.
+    Rock {
+        /// Height of the hit above the terrain, metres.
+        true_height_m: f64,
+    },
+}
+
+/// The world's surface for ray casting: the terrain, marched in small steps, and the rocks'
+/// rendered meshes ([`rock_mesh`]), intersected exactly. Rocks are bucketed in 1 m cells so a
+/// ray looks only at the rocks along it.
+pub struct TruthSurface<'a> {
+    world: &'a World,
+    rock_meshes: Vec<TriMesh>,
+    rocks_by_cell: HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl<'a> TruthSurface<'a> {
+    /// Meshes and indexes `world`'s rocks.
+    pub fn new(world: &'a World) -> Self {
+        let mut rocks_by_cell: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        for (index, rock) in world.rocks().iter().enumerate() {
+            let radius_m = rock.bounding_radius_m() * MESH_BOUND_FACTOR;
+            let [x, y, _] = rock.center_m;
+            for cx in (x - radius_m).floor() as i64..=(x + radius_m).floor() as i64 {
+                for cy in (y - radius_m).floor() as i64..=(y + radius_m).floor() as i64 {
+                    rocks_by_cell.entry((cx, cy)).or_default().push(index);
+                }
+            }
+        }
+        Self {
+            world,
+            rock_meshes: world.rocks().iter().map(rock_mesh).collect(),
+            rocks_by_cell,
+        }
+    }
+
+    /// Distance from (x, y) to the nearest rock's bounding circle, metres (∞ without rocks).
+    fn rock_clearance_m(&self, x_m: f64, y_m: f64) -> f64 {
+        self.world
+            .rocks()
+            .iter()
+            .map(|rock| {
+                (x_m - rock.center_m[0]).hypot(y_m - rock.center_m[1])
+                    - rock.bounding_radius_m() * MESH_BOUND_FACTOR
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The first surface along the unit ray from `origin`, within [`MAX_RAY_M`].
+    pub fn cast(&self, origin: &Point3<f64>, direction: &Vector3<f64>) -> Option<SurfaceHit> {
+        // The terrain first, then any rock met before it.
+        let mut terrain_range_m = None;
+        let mut candidates: Vec<usize> = Vec::new();
+        let mut range_m = 0.0;
+        while range_m < MAX_RAY_M {
+            let at = origin + direction * range_m;
+            if let Some(rocks) = self
+                .rocks_by_cell
+                .get(&(at.x.floor() as i64, at.y.floor() as i64))
+            {
+                candidates.extend(rocks);
+            }
+            if at.z <= self.world.ground_height_at(at.x, at.y) {
+                terrain_range_m = Some(range_m);
+                break;
+            }
+            range_m += RAY_STEP_M;
+        }
+        candidates.sort_unstable();
+        candidates.dedup();
+        let rock_hit = candidates
+            .iter()
+            .filter_map(|&index| {
+                let mesh = self.rock_meshes.get(index)?;
+                ray_mesh_range_m(origin, direction, mesh).map(|range_m| (range_m, index))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match (rock_hit, terrain_range_m) {
+            (Some((rock_range_m, _)), Some(ground_range_m)) if rock_range_m > ground_range_m => {
+                Some(self.ground_hit(origin, direction, ground_range_m))
+            }
+            (Some((rock_range_m, _)), _) => {
+                let at = origin + direction * rock_range_m;
+                Some(SurfaceHit::Rock {
+                    true_height_m: at.z - self.world.ground_height_at(at.x, at.y),
+                })
+            }
+            (None, Some(ground_range_m)) => {
+                Some(self.ground_hit(origin, direction, ground_range_m))
+            }
+            (None, None) => None,
+        }
+    }
+
+    fn ground_hit(
+        &self,
+        origin: &Point3<f64>,
+        direction: &Vector3<f64>,
+        range_m: f64,
+    ) -> SurfaceHit {
+        let at = origin + direction * range_m;
+        SurfaceHit::Ground {
+            rock_clearance_m: self.rock_clearance_m(at.x, at.y),
+        }
+    }
+}
+
+/// A rock mesh's lumps reach past its ellipsoid by up to this factor (five waves of at most
+/// 0.1 plus 0.1 of jitter).
+const MESH_BOUND_FACTOR: f64 = 1.6;
+
+/// Range to the nearest triangle of `mesh` the unit ray crosses (Möller–Trumbore).
+fn ray_mesh_range_m(origin: &Point3<f64>, direction: &Vector3<f64>, mesh: &TriMesh) -> Option<f64> {
+    let vertex = |index: u32| {
+        mesh.positions_m
+            .get(index as usize)
+            .map(|p| Vector3::new(p[0], p[1], p[2]))
+    };
+    mesh.triangles
+        .iter()
+        .filter_map(|triangle| {
+            let (a, b, c) = (
+                vertex(triangle[0])?,
+                vertex(triangle[1])?,
+                vertex(triangle[2])?,
+            );
+            let (edge1, edge2) = (b - a, c - a);
+            let p = direction.cross(&edge2);
+            let det = edge1.dot(&p);
+            if det.abs() < 1e-12 {
+                return None;
+            }
+            let to_origin = origin.coords - a;
+            let u = to_origin.dot(&p) / det;
+            let q = to_origin.cross(&edge1);
+            let v = direction.dot(&q) / det;
+            let range_m = edge2.dot(&q) / det;
+            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && range_m > 0.0).then_some(range_m)
+        })
+        .min_by(f64::total_cmp)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cloud::WorldPoint;
+    use crate::output::{VoOutput, VoStatus};
+    use hopnav_world::WorldConfig;
+    use hopnav_world::config::ExplicitRockConfig;
+
+    /// Flat ground at z = 0, no random rocks or craters, one 0.4 m rock at (0, 0).
+    fn flat_world_with_a_rock() -> World {
+        let mut config = WorldConfig::default();
+        config.terrain.relief_amplitude_m = 0.0;
+        config.craters.count = 0;
+        config.rocks.golombek_k = 0.0;
+        config.rocks.explicit = vec![ExplicitRockConfig {
+            center_m: [0.0, 0.0],
+            diameter_m: 1.0,
+            height_m: Some(0.4),
+        }];
+        World::generate(&config).unwrap()
+    }
+
+    #[test]
+    fn a_ray_straight_down_hits_the_rock_top_and_beside_it_the_ground() {
+        let world = flat_world_with_a_rock();
+        let surface = TruthSurface::new(&world);
+        let down = -Vector3::z();
+        let ground_m = world.ground_height_at(0.0, 0.0);
+        match surface.cast(&Point3::new(0.0, 0.0, ground_m + 10.0), &down) {
+            Some(SurfaceHit::Rock { true_height_m }) => {
+                // The mesh top is 0.4 m at its highest vertex, a little lower elsewhere.
+                assert!(
+                    true_height_m > 0.3 && true_height_m <= 0.4 + 1e-9,
+                    "{true_height_m}"
+                )
+            }
+            other => panic!("expected the rock, got {other:?}"),
+        }
+        match surface.cast(&Point3::new(3.0, 0.0, ground_m + 10.0), &down) {
+            Some(SurfaceHit::Ground { rock_clearance_m }) => {
+                assert!(
+                    rock_clearance_m > 2.0 && rock_clearance_m < 3.0,
+                    "{rock_clearance_m}"
+                )
+            }
+            other => panic!("expected the ground, got {other:?}"),
+        }
+        assert_eq!(
+            surface.cast(&Point3::new(3.0, 0.0, 10.0), &Vector3::z()),
+            None
+        );
+    }
+
+    /// A camera 10 m above (x, 0) looking down, with a perfect pose estimate.
+    fn stats_of(points: Vec<WorldPoint>) -> CloudHeightStats {
+        let world = flat_world_with_a_rock();
+        let camera = Isometry3::translation(0.0, 0.0, 10.0);
+        let hop = crate::simulate::SimulatedHop {
+            width_px: 0,
+            height_px: 0,
+            camera: hopnav_vision::camera::PinholeCamera::new(320, 320, 300.0, 300.0, 160.0, 160.0)
+                .unwrap(),
+            hop: crate::trajectory::HopTrajectory::table1(),
+            body_from_camera: Isometry3::identity(),
+            t_s: vec![0.0, 0.1],
+            images: Vec::new(),
+            truth_world_from_body: vec![camera; 2],
+            altimeter_m: vec![10.0; 2],
+        };
+        let output = |cloud| VoOutput {
+            frame_index: 0,
+            t_s: 0.0,
+            world_from_body: camera,
+            confidence: 1.0,
+            status: VoStatus::Tracking,
+            is_keyframe: true,
+            tracked_features: 0,
+            inliers: 0,
+            scale: None,
+            model: None,
+            cloud,
+        };
+        let run = HopRun {
+            outputs: vec![output(None), output(Some(points))],
+            frame_time_us: Vec::new(),
+            frame_cpu_us: Vec::new(),
+        };
+        let mut stats = CloudHeightStats::default();
+        stats.add_hop(&world, &hop, &run, &HighRule::default());
+        stats
+    }
+
+    fn point(x_m: f64, z_m: f64, height_m: f64, depth_sigma_m: f64) -> WorldPoint {
+        WorldPoint {
+            position_m: Point3::new(x_m, 0.0, z_m),
+            height_above_ground_m: Some(height_m),
+            depth_sigma_m,
+        }
+    }
+
+    #[test]
+    fn points_are_sorted_by_the_surface_their_ray_meets_and_judged_by_the_mappers_rule() {
+        let stats = stats_of(vec![
+            // On the rock top, read well (0.38 > 0.15 + 2 · 0.05): called high.
+            point(0.0, 0.38, 0.38, 0.05),
+            // On the rock top, read low: missed.
+            point(0.0, 0.2, 0.2, 0.05),
+            // Bare ground 4 m away, read 0.1 m high with a 0.05 m sigma: z = 2, not high.
+            point(4.0, 0.1, 0.1, 0.05),
+            // Too uncertain to count.
+            point(4.0, 0.0, 0.0, 0.5),
+        ]);
+        assert_eq!(stats.clouds, 1);
+        assert_eq!(stats.points, 3);
+        let class = stats.rock_classes[2];
+        assert_eq!((class.points, class.called_high), (2, 1));
+        assert_eq!(stats.ground_points, 1);
+        assert_eq!(stats.ground_called_high, 0);
+        assert!((stats.ground_rms_m().unwrap() - 0.1).abs() < 1e-9);
+        // The ray from 10 m up to (4, 0) is steep: height sigma ≈ 0.93 · depth sigma.
+        let z = stats.ground_z_rms().unwrap();
+        assert!(z > 2.0 && z < 2.3, "{z}");
+    }
+}

@@ -93,11 +93,9 @@ fn evaluate(args: &JumperCloudsArgs) -> Result<(), String> {
         "ground_z_rms": stats.ground_z_rms(),
         "stats": stats,
     });
-    std::fs::write(
-        &json_path,
-        serde_json::to_string_pretty(&json).unwrap_or_default(),
-    )
-    .map_err(|e| format!("{}: {e}", json_path.display()))?;
+    let text =
+        serde_json::to_string_pretty(&json).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, text).map_err(|e| format!("{}: {e}", json_path.display()))?;
     println!("wrote {}", json_path.display());
     Ok(())
 }

@@ -11,7 +11,10 @@ use super::{Pose3, SampleStamp};
 pub struct CloudHeader {
     /// Frame identity and timing.
     pub stamp: SampleStamp,
-    /// `world_from_camera` of the keyframe the points were triangulated in.
+    /// The producer's viewpoint, from which the mapper takes the direction of each point's
+    /// depth error: the rover's `world_from_camera` at the keyframe; the jumper's
+    /// `world_from_body` at the keyframe that closed the triangulated pair (its camera 10 cm
+    /// and one keyframe baseline from the one the points were triangulated from).
     pub world_from_camera: Pose3,
     /// Points in the slice.
     pub point_count: u32,

@@ -58,4 +58,8 @@ pub struct VoOutput {
     pub model: Option<MotionModel>,
     /// Triangulated world-frame points (keyframes only).
     pub cloud: Option<Vec<WorldPoint>>,
+    /// The camera `cloud` was triangulated from: the previous keyframe's attitude at the
+    /// centre the ballistic fit re-anchored (see [`crate::pipeline`]); evaluation recovers each
+    /// point's viewing ray from it.
+    pub cloud_world_from_camera: Option<Isometry3<f64>>,
 }

@@ -298,6 +298,7 @@ impl JumperVo {
             scale: None,
             model: None,
             cloud: None,
+            cloud_world_from_camera: None,
         }
     }
 
@@ -600,6 +601,7 @@ impl JumperVo {
             || (est.inliers as f64)
                 < self.config.keyframe_min_track_fraction * self.tracks.keyframe_count() as f64;
         let mut cloud = None;
+        let mut cloud_world_from_camera = None;
         if make_keyframe && self.config.publish_cloud && est.scale_m.is_some() {
             // The baseline is the measured one, vision direction times scale, from the keyframe
             // centre it was measured from. The stored keyframe pose predates the fit's
@@ -622,6 +624,7 @@ impl JumperVo {
             );
             fill_heights_above_ground(&mut points);
             cloud = Some(points);
+            cloud_world_from_camera = Some(world_from_cam1);
         }
         self.tracks.retain(&self.keep);
         let mut tracked_after = est.tracked;
@@ -652,6 +655,7 @@ impl JumperVo {
             scale: est.scale_m,
             model: Some(est.model),
             cloud,
+            cloud_world_from_camera,
         }
     }
 

@@ -97,22 +97,26 @@ impl CloudHeightStats {
     /// Adds one hop's clouds: `run` is the VO over `hop`, rendered from `world`.
     pub fn add_hop(&mut self, world: &World, hop: &SimulatedHop, run: &HopRun, rule: &HighRule) {
         let surface = TruthSurface::new(world);
-        let mut keyframe_index = 0;
-        for (index, out) in run.outputs.iter().enumerate() {
-            let first = keyframe_index;
+        // Frame index of the last keyframe: the first camera of the next cloud.
+        let mut keyframe_frame = None;
+        for out in &run.outputs {
+            let first_frame = keyframe_frame;
             if out.is_keyframe {
-                keyframe_index = index;
+                keyframe_frame = Some(out.frame_index);
             }
-            let Some(cloud) = &out.cloud else {
+            let (Some(cloud), Some(estimated_camera)) = (&out.cloud, out.cloud_world_from_camera)
+            else {
                 continue;
             };
-            let (Some(truth), Some(estimate)) =
-                (hop.truth_world_from_body.get(first), run.outputs.get(first))
+            let Some(truth) = first_frame
+                .and_then(|frame| usize::try_from(frame).ok())
+                .and_then(|frame| hop.truth_world_from_body.get(frame))
             else {
                 continue;
             };
             let true_camera = truth * hop.body_from_camera;
-            let estimated_camera = estimate.world_from_body * hop.body_from_camera;
+            // The mapper takes a point's height sigma along the ray from the pose the cloud
+            // is published with (the body at this, the second, keyframe).
             let published_from_m = out.world_from_body.translation.vector;
             self.clouds += 1;
             for point in cloud {
@@ -130,7 +134,7 @@ impl CloudHeightStats {
         }
     }
 
-    /// `cameras`: the cloud's first keyframe camera, true and estimated.
+    /// `cameras`: the camera the cloud was triangulated from, true and as the VO had it.
     fn add_point(
         &mut self,
         surface: &TruthSurface<'_>,
@@ -249,14 +253,14 @@ impl<'a> TruthSurface<'a> {
         // The terrain first, then any rock met before it.
         let mut terrain_range_m = None;
         let mut candidates: Vec<usize> = Vec::new();
+        let mut last_cell = None;
         let mut range_m = 0.0;
         while range_m < MAX_RAY_M {
             let at = origin + direction * range_m;
-            if let Some(rocks) = self
-                .rocks_by_cell
-                .get(&(at.x.floor() as i64, at.y.floor() as i64))
-            {
-                candidates.extend(rocks);
+            let cell = (at.x.floor() as i64, at.y.floor() as i64);
+            if last_cell != Some(cell) {
+                candidates.extend(self.rocks_by_cell.get(&cell).into_iter().flatten());
+                last_cell = Some(cell);
             }
             if at.z <= self.world.ground_height_at(at.x, at.y) {
                 terrain_range_m = Some(range_m);
@@ -391,10 +395,15 @@ mod tests {
         );
     }
 
-    /// A camera 10 m above (x, 0) looking down, with a perfect pose estimate.
-    fn stats_of(points: Vec<WorldPoint>) -> CloudHeightStats {
+    /// The VO's placement error of the cloud camera along x, metres (wider than the rock).
+    const CAMERA_ERROR_X_M: f64 = 1.5;
+
+    /// Keyframes 10 m up at x = 0 and x = 2 m, looking down. The VO placed the first keyframe
+    /// (the cloud's camera) [`CAMERA_ERROR_X_M`] off, so every point of `true_points` reaches
+    /// the cloud shifted by that much; the stored keyframe poses are off by 0.7 m more.
+    fn stats_of(true_points: Vec<WorldPoint>) -> CloudHeightStats {
         let world = flat_world_with_a_rock();
-        let camera = Isometry3::translation(0.0, 0.0, 10.0);
+        let keyframe = |x_m: f64| Isometry3::translation(x_m, 0.0, 10.0);
         let hop = crate::simulate::SimulatedHop {
             width_px: 0,
             height_px: 0,
@@ -404,13 +413,21 @@ mod tests {
             body_from_camera: Isometry3::identity(),
             t_s: vec![0.0, 0.1],
             images: Vec::new(),
-            truth_world_from_body: vec![camera; 2],
+            truth_world_from_body: vec![keyframe(0.0), keyframe(2.0)],
             altimeter_m: vec![10.0; 2],
         };
-        let output = |cloud| VoOutput {
-            frame_index: 0,
-            t_s: 0.0,
-            world_from_body: camera,
+        let cloud: Vec<WorldPoint> = true_points
+            .into_iter()
+            .map(|point| WorldPoint {
+                position_m: point.position_m + Vector3::x() * CAMERA_ERROR_X_M,
+                ..point
+            })
+            .collect();
+        let output = |frame_index: u64, cloud: Option<Vec<WorldPoint>>| VoOutput {
+            frame_index,
+            t_s: 0.1 * frame_index as f64,
+            // The stored pose is not the re-anchored one the cloud was triangulated from.
+            world_from_body: keyframe(2.0 * frame_index as f64 + CAMERA_ERROR_X_M + 0.7),
             confidence: 1.0,
             status: VoStatus::Tracking,
             is_keyframe: true,
@@ -418,10 +435,11 @@ mod tests {
             inliers: 0,
             scale: None,
             model: None,
+            cloud_world_from_camera: cloud.as_ref().map(|_| keyframe(CAMERA_ERROR_X_M)),
             cloud,
         };
         let run = HopRun {
-            outputs: vec![output(None), output(Some(points))],
+            outputs: vec![output(0, None), output(1, Some(cloud))],
             frame_time_us: Vec::new(),
             frame_cpu_us: Vec::new(),
         };
@@ -439,7 +457,7 @@ mod tests {
     }
 
     #[test]
-    fn points_are_sorted_by_the_surface_their_ray_meets_and_judged_by_the_mappers_rule() {
+    fn points_are_sorted_by_the_surface_their_ray_meets_from_the_true_camera() {
         let stats = stats_of(vec![
             // On the rock top, read well (0.38 > 0.15 + 2 · 0.05): called high.
             point(0.0, 0.38, 0.38, 0.05),
@@ -457,8 +475,9 @@ mod tests {
         assert_eq!(stats.ground_points, 1);
         assert_eq!(stats.ground_called_high, 0);
         assert!((stats.ground_rms_m().unwrap() - 0.1).abs() < 1e-9);
-        // The ray from 10 m up to (4, 0) is steep: height sigma ≈ 0.93 · depth sigma.
+        // Seen from the published pose 2 m beside it, the point's ray is steep: height sigma
+        // ≈ 0.98 · depth sigma, z ≈ 2.04.
         let z = stats.ground_z_rms().unwrap();
-        assert!(z > 2.0 && z < 2.3, "{z}");
+        assert!(z > 2.0 && z < 2.1, "{z}");
     }
 }

@@ -147,7 +147,7 @@ pub struct Navigator {
     scouted: ScoutBatch,
     counters: NavigatorCounters,
     last_request_s: f64,
-    /// The path before the last extraction (a reused buffer).
+    /// The last route followed before the current path (a reused buffer).
     previous_path: Vec<Cell>,
     /// Map changes invalidated the path since it was last extracted: compare the next one.
     route_check_pending: bool,
@@ -445,14 +445,13 @@ impl Navigator {
                 self.counters.path_cost = stats.cost;
             }
             Err(PlanError::Unreachable) => {
-                self.path.clear();
+                self.retire_path();
                 self.counters.path_cost = 0;
                 return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
             }
             Err(error) => return Err(NavigationError::Plan(error)),
         }
-        std::mem::swap(&mut self.path, &mut self.previous_path);
-        self.path.clear();
+        self.retire_path();
         if let Some(path) = self.planner.path() {
             self.path.extend(path);
         }
@@ -572,6 +571,15 @@ impl Navigator {
             self.counters.replans += 1;
         }
         Ok(invalidated)
+    }
+
+    /// Empties the path, keeping it as the last route followed unless it was empty already
+    /// (an unreachable spell: the next route is compared with the one before it).
+    fn retire_path(&mut self) {
+        if !self.path.is_empty() {
+            std::mem::swap(&mut self.path, &mut self.previous_path);
+        }
+        self.path.clear();
     }
 
     fn remaining_path_cost(&self) -> Option<Cost> {

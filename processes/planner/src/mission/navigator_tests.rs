@@ -467,3 +467,20 @@ fn a_costlier_cell_on_the_route_is_a_replan_and_a_rock_across_it_a_route_change(
     assert_eq!(navigator.counters().replans, 2);
     assert_eq!(navigator.counters().route_changes, 1);
 }
+
+#[test]
+fn a_route_found_after_an_unreachable_spell_counts_as_a_route_change() {
+    let (mut navigator, rover) = planned_on_an_unknown_map();
+    let wall = |ys: std::ops::Range<u32>, state| {
+        ys.map(move |y| CellChange::new(Cell::new(30, y), state, 0))
+    };
+    navigator.queue_changes(wall(0..40, CellState::Obstacle));
+    let decision = navigator.step(rover, None, 0.1).unwrap();
+    assert_eq!(decision.status, MissionStatus::Unreachable);
+    assert!(navigator.path().is_empty());
+    // A gap opens at the far end: the rover goes the long way round, not straight on.
+    navigator.queue_changes(wall(36..40, CellState::Free));
+    let decision = navigator.step(rover, None, 0.2).unwrap();
+    assert_eq!(decision.status, MissionStatus::Driving);
+    assert_eq!(navigator.counters().route_changes, 1);
+}

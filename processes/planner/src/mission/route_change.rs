@@ -14,16 +14,25 @@ use crate::grid::Cell;
 pub const ROUTE_TOLERANCE_CELLS: u32 = 1;
 
 /// True when some cell of `new_path` lies more than [`ROUTE_TOLERANCE_CELLS`] from every cell
-/// of `old_path`. An empty old path (no route yet) is never a change.
+/// of `old_path`. The new path's cells before it first comes near the old one are the way
+/// back to it (a rover that backed off a rock, or was pushed off its path), not another
+/// route; a new path that never comes near the old one is. An empty old path (no route yet)
+/// is never a change.
 pub fn route_moved(old_path: &[Cell], new_path: &[Cell]) -> bool {
     if old_path.is_empty() {
         return false;
     }
-    new_path.iter().any(|new| {
-        !old_path
+    let near_old = |new: &Cell| {
+        old_path
             .iter()
             .any(|old| chebyshev_cells(*old, *new) <= ROUTE_TOLERANCE_CELLS)
-    })
+    };
+    match new_path.iter().position(near_old) {
+        Some(rejoin) => new_path
+            .get(rejoin..)
+            .is_some_and(|rest| !rest.iter().all(near_old)),
+        None => !new_path.is_empty(),
+    }
 }
 
 fn chebyshev_cells(a: Cell, b: Cell) -> u32 {
@@ -63,6 +72,16 @@ mod tests {
         new.push(Cell::new(12, 6));
         new.extend(row(5, 13..20));
         assert!(route_moved(&old, &new));
+    }
+
+    #[test]
+    fn a_way_back_to_the_old_route_is_no_change_and_a_route_that_never_meets_it_is() {
+        let old = row(5, 0..20);
+        // Backed off three cells below the route, then back onto it.
+        let mut back = vec![Cell::new(3, 8), Cell::new(4, 7)];
+        back.extend(row(5, 5..20));
+        assert!(!route_moved(&old, &back));
+        assert!(route_moved(&old, &row(12, 0..20)));
     }
 
     #[test]

@@ -8,6 +8,7 @@ use hopnav_jumper_vo::config::JumperVoConfig;
 use hopnav_jumper_vo::eval::cloud_heights::{CloudHeightStats, HEIGHT_CLASS_EDGES_M, HighRule};
 use hopnav_jumper_vo::eval::run_hop;
 use hopnav_jumper_vo::simulate::{SimConfig, simulate_hop};
+use hopnav_mapper::config::MapperConfig;
 use hopnav_world::World;
 
 #[derive(Debug, Args)]
@@ -62,7 +63,7 @@ fn evaluate(args: &JumperCloudsArgs) -> Result<(), String> {
     if let Some(deg) = args.keyframe_max_parallax_deg {
         vo_config.keyframe_max_parallax_deg = deg;
     }
-    let mut rule = HighRule::default();
+    let mut rule = mapper_rule(&MapperConfig::default());
     if let Some(factor) = args.jumper_height_sigma_factor {
         rule.sigma_factor = factor;
     }
@@ -98,6 +99,16 @@ fn evaluate(args: &JumperCloudsArgs) -> Result<(), String> {
     std::fs::write(&json_path, text).map_err(|e| format!("{}: {e}", json_path.display()))?;
     println!("wrote {}", json_path.display());
     Ok(())
+}
+
+/// The mapper's test for a jumper point, from its configuration.
+fn mapper_rule(mapper: &MapperConfig) -> HighRule {
+    HighRule {
+        max_depth_sigma_m: mapper.max_depth_sigma_m,
+        max_feature_height_m: mapper.max_feature_height_m,
+        traversable_height_m: mapper.traversable_height_m,
+        sigma_factor: mapper.jumper_height_sigma_factor,
+    }
 }
 
 fn print(args: &JumperCloudsArgs, vo: &JumperVoConfig, rule: &HighRule, stats: &CloudHeightStats) {
@@ -149,5 +160,15 @@ fn print(args: &JumperCloudsArgs, vo: &JumperVoConfig, rule: &HighRule, stats: &
             mean(class.estimated_sum_m).unwrap_or_else(|| "-".to_owned()),
             mean(class.true_sum_m).unwrap_or_else(|| "-".to_owned())
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_evals_default_rule_is_the_mappers_default() {
+        assert_eq!(HighRule::default(), mapper_rule(&MapperConfig::default()));
     }
 }

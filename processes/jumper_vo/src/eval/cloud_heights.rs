@@ -22,6 +22,8 @@ use crate::simulate::SimulatedHop;
 pub struct HighRule {
     /// Points whose depth sigma exceeds this are dropped, metres.
     pub max_depth_sigma_m: f64,
+    /// Points whose height is beyond this (either sign) are dropped, metres.
+    pub max_feature_height_m: f64,
     /// A point is high above `traversable_height_m + sigma_factor · height sigma`, metres.
     pub traversable_height_m: f64,
     /// Height sigmas of margin.
@@ -32,6 +34,7 @@ impl Default for HighRule {
     fn default() -> Self {
         Self {
             max_depth_sigma_m: 0.25,
+            max_feature_height_m: 5.0,
             traversable_height_m: 0.15,
             sigma_factor: 2.0,
         }
@@ -146,8 +149,9 @@ impl CloudHeightStats {
         let Some(height_m) = point.height_above_ground_m else {
             return;
         };
-        // NaN sigmas fail this too.
-        let usable = point.depth_sigma_m <= rule.max_depth_sigma_m && height_m.is_finite();
+        // NaN sigmas and heights fail this too.
+        let usable = point.depth_sigma_m <= rule.max_depth_sigma_m
+            && height_m.abs() <= rule.max_feature_height_m;
         if !usable {
             return;
         }

@@ -328,14 +328,15 @@ fn print_table(rows: &[CompareRow]) {
         })
         .filter(|(cooperative, rover_only)| cooperative.goal_reached && rover_only.goal_reached)
         .collect();
-    let path_ratio = mean(pairs.iter().map(|(c, _)| c.executed_path_m))
-        .zip(mean(pairs.iter().map(|(_, r)| r.executed_path_m)));
+    // (cooperative mean, rover-only mean) of one field over the pairs.
+    let paired_means = |field: fn(&MissionReport) -> f64| {
+        mean(pairs.iter().map(|(c, _)| field(c))).zip(mean(pairs.iter().map(|(_, r)| field(r))))
+    };
+    let path_ratio = paired_means(|m| m.executed_path_m);
     // The most scouting could save: the planner's path with every rock known from the start.
     let best_m = mean(pairs.iter().filter_map(|(_, r)| r.full_knowledge_path_m));
-    let replan_ratio = mean(pairs.iter().map(|(c, _)| c.replans as f64))
-        .zip(mean(pairs.iter().map(|(_, r)| r.replans as f64)));
-    let route_ratio = mean(pairs.iter().map(|(c, _)| c.route_changes as f64))
-        .zip(mean(pairs.iter().map(|(_, r)| r.route_changes as f64)));
+    let replan_ratio = paired_means(|m| m.replans as f64);
+    let route_ratio = paired_means(|m| m.route_changes as f64);
     let fewer_percent = |(cooperative, rover_only): (f64, f64)| {
         if rover_only > 0.0 {
             100.0 * (1.0 - cooperative / rover_only)

@@ -8,6 +8,7 @@
 pub mod cloud_heights;
 pub mod dataset;
 pub mod plot;
+pub mod truth_surface;
 
 pub use hopnav_metrics::trajectory::{align, errors as metrics, tum};
 

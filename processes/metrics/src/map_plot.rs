@@ -1,9 +1,11 @@
 //! The paper's Fig. 6 as a PNG: the mission grid with each mapped cell coloured by what it is
-//! (obstacle or inflated) and who saw it (rover, jumper or both), the start and goal, and any
-//! number of trajectories drawn over it (both modes' rover paths, the jumper's hops).
+//! (obstacle or inflated) and who saw it (rover, jumper or both), the start and goal, any
+//! number of trajectories drawn over it (both modes' rover paths, the jumper's hops) and, for
+//! evaluation, the outlines of the world's true rocks the rover cannot climb.
 
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::plot::{PlotError, register_font};
@@ -58,6 +60,15 @@ pub struct Track {
     pub markers_only: bool,
 }
 
+/// A true rock's footprint, drawn as an outline over the cells (evaluation only).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockOutline {
+    /// Centre (x, y), world metres.
+    pub center_m: (f64, f64),
+    /// Horizontal radius, metres.
+    pub radius_m: f64,
+}
+
 /// Everything on the figure.
 #[derive(Debug, Clone)]
 pub struct MapFigure {
@@ -75,6 +86,8 @@ pub struct MapFigure {
     pub goal_m: (f64, f64),
     /// Lines over the map.
     pub tracks: Vec<Track>,
+    /// True rocks to outline (empty: none drawn, no legend entry).
+    pub rocks: Vec<RockOutline>,
     /// World rectangle to show: (x min, x max, y min, y max), metres.
     pub view_m: (f64, f64, f64, f64),
 }
@@ -162,6 +175,7 @@ fn draw_map<DB: DrawingBackend>(
             .label(label)
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], colour.filled()));
     }
+    draw_rock_outlines(&mut chart, &figure.rocks)?;
     for track in &figure.tracks {
         let colour = RGBColor(track.rgb.0, track.rgb.1, track.rgb.2);
         let points: Vec<(f64, f64)> = track
@@ -207,6 +221,37 @@ fn draw_map<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Vertices of a rock outline: enough for a round look at the sizes a 0.5 m grid shows.
+const OUTLINE_VERTICES: usize = 16;
+
+fn draw_rock_outlines<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    rocks: &[RockOutline],
+) -> Result<(), String> {
+    if rocks.is_empty() {
+        return Ok(());
+    }
+    let colour = RGBColor(20, 20, 20);
+    let outline = |rock: &RockOutline| {
+        let points: Vec<(f64, f64)> = (0..=OUTLINE_VERTICES)
+            .map(|i| {
+                let angle_rad = std::f64::consts::TAU * i as f64 / OUTLINE_VERTICES as f64;
+                (
+                    rock.center_m.0 + rock.radius_m * angle_rad.cos(),
+                    rock.center_m.1 + rock.radius_m * angle_rad.sin(),
+                )
+            })
+            .collect();
+        PathElement::new(points, colour.stroke_width(1))
+    };
+    chart
+        .draw_series(rocks.iter().map(outline))
+        .map_err(|e| e.to_string())?
+        .label("true rock, unclimbable")
+        .legend(move |(x, y)| Circle::new((x + 8, y), 5, colour.stroke_width(1)));
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -241,6 +286,10 @@ mod tests {
                 points_m: vec![(-8.0, 0.0), (0.0, 3.0), (8.0, 0.0)],
                 rgb: (0, 120, 0),
                 markers_only: false,
+            }],
+            rocks: vec![RockOutline {
+                center_m: (0.0, 0.0),
+                radius_m: 0.6,
             }],
             view_m: (-10.0, 10.0, -10.0, 10.0),
         };

@@ -217,9 +217,10 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
                 "hopnav {} mission, run {run_id}",
                 config.mission.mode.name()
             );
+            let rocks = mission.truth_rocks();
             MissionSummary {
-                report: mission.report(),
-                figure: mission.figure(&title),
+                report: mission.report(rocks.as_deref()),
+                figure: mission.figure(&title, rocks.as_deref()),
                 rover_track_m: mission.rover_track_m().to_vec(),
                 vo_tum: mission
                     .vo_tracks()

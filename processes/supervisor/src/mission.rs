@@ -10,7 +10,7 @@ use hopnav_ipc::messages::{
 };
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
-use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, Track};
+use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, RockOutline, Track};
 use iceoryx2::node::Node;
 
 use crate::full_knowledge::{FullKnowledgePath, full_knowledge_path};
@@ -223,8 +223,9 @@ impl MissionObserver {
             .then(|| format!("goal unreachable on the known map since {since_s:.1} s"))
     }
 
-    /// The report section.
-    pub fn report(&self) -> MissionReport {
+    /// The report section; `rocks` are the world's ([`Self::truth_rocks`]), for the map's
+    /// accuracy and the full-knowledge path.
+    pub fn report(&self, rocks: Option<&[RockFootprint]>) -> MissionReport {
         let header = self.last_path.unwrap_or_default();
         let distance_to_goal_m = match (self.goal_m, self.last_rover_m) {
             (Some(goal), Some(rover)) => Some((goal[0] - rover[0]).hypot(goal[1] - rover[1])),
@@ -241,7 +242,6 @@ impl MissionObserver {
                 .filter(|cell| cell.class == class)
                 .count()
         };
-        let rocks = self.truth_rocks();
         MissionReport {
             mode: self.mode.name().to_owned(),
             goal_reached: self.reached_at_s.is_some(),
@@ -259,9 +259,8 @@ impl MissionObserver {
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
             inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
-            map_accuracy: rocks.as_deref().and_then(|rocks| self.map_accuracy(rocks)),
+            map_accuracy: rocks.and_then(|rocks| self.map_accuracy(rocks)),
             full_knowledge_path_m: rocks
-                .as_deref()
                 .and_then(|rocks| self.full_knowledge_path(rocks))
                 .map(|path| path.length_m),
             vo: [
@@ -279,8 +278,9 @@ impl MissionObserver {
         [("jumper", &self.jumper_vo), ("rover", &self.rover_vo)]
     }
 
-    /// The world's rocks, regenerated from the config; `None` when it cannot be.
-    fn truth_rocks(&self) -> Option<Vec<RockFootprint>> {
+    /// The world's rocks, regenerated from the config (evaluation only); `None` when it
+    /// cannot be.
+    pub fn truth_rocks(&self) -> Option<Vec<RockFootprint>> {
         let world = hopnav_world::World::generate(&self.world).ok()?;
         Some(
             world
@@ -354,11 +354,21 @@ impl MissionObserver {
         ))
     }
 
-    /// The Fig.-6 figure of this launch, with the rover's and the jumper's true tracks.
-    pub fn figure(&self, title: &str) -> Option<MapFigure> {
+    /// The Fig.-6 figure of this launch, with the rover's and the jumper's true tracks and
+    /// the outlines of the `rocks` the rover cannot climb.
+    pub fn figure(&self, title: &str, rocks: Option<&[RockFootprint]>) -> Option<MapFigure> {
         let geometry = self.geometry?;
         let (start, goal) = (self.start_m?, self.goal_m?);
         let rover_label = format!("rover ({})", self.mode.name());
+        let rocks = rocks
+            .unwrap_or_default()
+            .iter()
+            .filter(|rock| rock.height_m > self.climbable_height_m)
+            .map(|rock| RockOutline {
+                center_m: (rock.center_m[0], rock.center_m[1]),
+                radius_m: rock.radius_m,
+            })
+            .collect();
         Some(map_figure(
             title,
             geometry.origin_m,
@@ -380,6 +390,7 @@ impl MissionObserver {
                     markers_only: true,
                 },
             ],
+            rocks,
         ))
     }
 
@@ -420,7 +431,9 @@ impl MissionObserver {
     }
 }
 
-/// A figure around start, goal and every track, with `cells` under them.
+/// A figure around start, goal and every track, with `cells` under them and the `rocks`
+/// within view outlined.
+#[allow(clippy::too_many_arguments)]
 pub fn map_figure(
     title: &str,
     origin_m: (f64, f64),
@@ -429,6 +442,7 @@ pub fn map_figure(
     start_m: (f64, f64),
     goal_m: (f64, f64),
     tracks: Vec<Track>,
+    rocks: Vec<RockOutline>,
 ) -> MapFigure {
     let points = tracks
         .iter()
@@ -444,6 +458,16 @@ pub fn map_figure(
     let centre_y = (y0 + y1) / 2.0;
     // Room on the right for the legend, so it never hides the goal or a track.
     let legend_m = 0.3 * (x1 - x0 + 2.0 * margin_m);
+    let view_m = (
+        x0 - margin_m,
+        x1 + margin_m + legend_m,
+        centre_y - half_height_m,
+        centre_y + half_height_m,
+    );
+    let in_view = |rock: &RockOutline| {
+        let (x, y, r) = (rock.center_m.0, rock.center_m.1, rock.radius_m);
+        x + r > view_m.0 && x - r < view_m.1 && y + r > view_m.2 && y - r < view_m.3
+    };
     MapFigure {
         title: title.to_owned(),
         origin_m,
@@ -452,12 +476,8 @@ pub fn map_figure(
         start_m,
         goal_m,
         tracks,
-        view_m: (
-            x0 - margin_m,
-            x1 + margin_m + legend_m,
-            centre_y - half_height_m,
-            centre_y + half_height_m,
-        ),
+        rocks: rocks.into_iter().filter(in_view).collect(),
+        view_m,
     }
 }
 

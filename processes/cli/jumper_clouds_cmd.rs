@@ -23,6 +23,10 @@ pub struct JumperCloudsArgs {
     /// the clouds are triangulated between keyframes, so this sets their baseline.
     #[arg(long, value_name = "DEG")]
     keyframe_max_parallax_deg: Option<f64>,
+    /// Keyframe intervals a cloud may triangulate a track over, from the keyframe it was born
+    /// in (default: the VO's `cloud_track_keyframes`; 1: the last interval only).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=32))]
+    cloud_track_keyframes: Option<u32>,
     /// Height sigmas of margin a point needs above the traversable height to be called high
     /// (default: the mapper's `jumper_height_sigma_factor`, 2).
     #[arg(long, value_name = "SIGMAS", value_parser = parse_sigma_factor)]
@@ -63,6 +67,9 @@ fn evaluate(args: &JumperCloudsArgs) -> Result<(), String> {
     if let Some(deg) = args.keyframe_max_parallax_deg {
         vo_config.keyframe_max_parallax_deg = deg;
     }
+    if let Some(intervals) = args.cloud_track_keyframes {
+        vo_config.cloud_track_keyframes = intervals;
+    }
     let mut rule = mapper_rule(&MapperConfig::default());
     if let Some(factor) = args.jumper_height_sigma_factor {
         rule.sigma_factor = factor;
@@ -89,6 +96,7 @@ fn evaluate(args: &JumperCloudsArgs) -> Result<(), String> {
         "seeds": args.seeds,
         "golombek_k": args.k,
         "keyframe_max_parallax_deg": vo_config.keyframe_max_parallax_deg,
+        "cloud_track_keyframes": vo_config.cloud_track_keyframes,
         "jumper_height_sigma_factor": rule.sigma_factor,
         "ground_rms_m": stats.ground_rms_m(),
         "ground_z_rms": stats.ground_z_rms(),
@@ -114,10 +122,11 @@ fn mapper_rule(mapper: &MapperConfig) -> HighRule {
 fn print(args: &JumperCloudsArgs, vo: &JumperVoConfig, rule: &HighRule, stats: &CloudHeightStats) {
     let percent = |part: usize, whole: usize| 100.0 * part as f64 / whole.max(1) as f64;
     println!(
-        "\n{} hops, k {:.3}, keyframes every {:.1}° of parallax: {} clouds, {} points ({} rays met no surface)",
+        "\n{} hops, k {:.3}, keyframes every {:.1}° of parallax, tracks triangulated over up to {} keyframe intervals: {} clouds, {} points ({} rays met no surface)",
         args.seeds,
         args.k,
         vo.keyframe_max_parallax_deg,
+        vo.cloud_track_keyframes,
         stats.clouds,
         stats.points,
         stats.unmatched

@@ -12,9 +12,9 @@ pub struct CloudHeader {
     /// Frame identity and timing.
     pub stamp: SampleStamp,
     /// The producer's viewpoint, from which the mapper takes the direction of each point's
-    /// depth error: the rover's `world_from_camera` at the keyframe; the jumper's
-    /// `world_from_body` at the keyframe that closed the triangulated pair (its camera 10 cm
-    /// and one keyframe baseline from the one the points were triangulated from).
+    /// depth error: the camera at the keyframe (for the jumper, the keyframe that closed the
+    /// triangulation, shared by every point of the cloud; their depth sigmas are ranges from
+    /// it).
     pub world_from_camera: Pose3,
     /// Points in the slice.
     pub point_count: u32,

@@ -15,38 +15,77 @@ pub struct WorldPoint {
     pub depth_sigma_m: f64,
 }
 
-/// Triangulates `x1[i] ↔ x2[i]` for `i` in `indices` with the metric `cam2_from_cam1` and
-/// appends the accepted points, in the world frame, to `out`.
-pub fn triangulate_cloud(
-    world_from_cam1: &Isometry3<f64>,
-    cam2_from_cam1: &Isometry3<f64>,
-    x1: &[Vector2<f64>],
-    x2: &[Vector2<f64>],
-    indices: &[usize],
+/// One feature seen from two cameras: where it was first observed and in the current keyframe
+/// (normalized image coordinates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoViews {
+    /// The camera of the first observation.
+    pub world_from_first: Isometry3<f64>,
+    /// The feature in the first camera.
+    pub x_first: Vector2<f64>,
+    /// The feature in the current keyframe camera.
+    pub x_now: Vector2<f64>,
+    /// Keyframe intervals between the two views (1: the last keyframe and this one).
+    pub intervals: u32,
+}
+
+/// Whether `point` projects within `max_error_px` of `x` (normalized) in the camera
+/// `world_from_camera` (in front of it).
+pub fn reprojects_within(
+    world_from_camera: &Isometry3<f64>,
+    point: &WorldPoint,
+    x: &Vector2<f64>,
     focal_px: f64,
-    out: &mut Vec<WorldPoint>,
-) {
+    max_error_px: f64,
+) -> bool {
+    let p = world_from_camera.inverse_transform_point(&point.position_m);
+    p.z > 0.0 && (Vector2::new(p.x / p.z, p.y / p.z) - x).norm() * focal_px <= max_error_px
+}
+
+/// Largest reprojection error a cloud point may have in any view it was seen in, pixels.
+pub const MAX_REPROJECTION_ERROR_PX: f64 = 2.0;
+
+/// Variance a view's ray error gains per keyframe interval beyond the first, px²: the
+/// attitude between the two views is a chain of keyframe-to-keyframe estimates, and KLT
+/// drifts over the frames a track lives. Set so that the bare-ground heights of
+/// `hopnav eval jumper-clouds` stay as honest in their sigmas as over one interval.
+pub const RAY_VARIANCE_PER_INTERVAL_PX2: f64 = 0.5;
+
+/// Triangulates `views` against the current keyframe camera `world_from_now` and returns the
+/// accepted point in the world frame. Its depth sigma is the range from the current camera
+/// (the viewpoint every point of a cloud shares, published with it) for the ray error at the
+/// point's parallax: 1 px over one keyframe interval, growing with
+/// [`RAY_VARIANCE_PER_INTERVAL_PX2`] per further interval.
+pub fn triangulate_views(
+    world_from_now: &Isometry3<f64>,
+    views: &TwoViews,
+    focal_px: f64,
+) -> Option<WorldPoint> {
     let cfg = TriangulationConfig {
         min_parallax_rad: 1f64.to_radians(),
-        max_reprojection_error_sq: (2.0 / focal_px.max(1.0)).powi(2),
+        max_reprojection_error_sq: (MAX_REPROJECTION_ERROR_PX / focal_px.max(1.0)).powi(2),
         min_depth: 0.05,
         max_depth: 500.0,
     };
-    for &i in indices {
-        let (Some(a), Some(b)) = (x1.get(i), x2.get(i)) else {
-            continue;
-        };
-        if let Ok(p) = triangulate_checked(cam2_from_cam1, a, b, &cfg, Method::Midpoint) {
-            // Range error ≈ range · ray error / parallax (small-angle triangulation).
-            let parallax_rad = parallax_rad(cam2_from_cam1, &p.point_cam1).max(1e-6);
-            let depth_sigma_m = p.point_cam1.coords.norm() / focal_px.max(1.0) / parallax_rad;
-            out.push(WorldPoint {
-                position_m: world_from_cam1 * p.point_cam1,
-                height_above_ground_m: None,
-                depth_sigma_m,
-            });
-        }
-    }
+    let now_from_first = world_from_now.inverse() * views.world_from_first;
+    let p = triangulate_checked(
+        &now_from_first,
+        &views.x_first,
+        &views.x_now,
+        &cfg,
+        Method::Midpoint,
+    )
+    .ok()?;
+    // Range error ≈ range · ray error / parallax (small-angle triangulation).
+    let parallax_rad = parallax_rad(&now_from_first, &p.point_cam1).max(1e-6);
+    let range_now_m = (now_from_first * p.point_cam1).coords.norm();
+    let extra_intervals = f64::from(views.intervals.saturating_sub(1));
+    let ray_sigma_px = (1.0 + RAY_VARIANCE_PER_INTERVAL_PX2 * extra_intervals).sqrt();
+    Some(WorldPoint {
+        position_m: views.world_from_first * p.point_cam1,
+        height_above_ground_m: None,
+        depth_sigma_m: range_now_m * ray_sigma_px / focal_px.max(1.0) / parallax_rad,
+    })
 }
 
 /// Fits `z = a x + b y + c` to the lower part of the cloud (three passes of least squares that
@@ -211,6 +250,66 @@ const LOCAL_GROUND_RADIUS_M: f64 = 2.5;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    /// A camera at `x_m` along a 10 m-high track, looking straight down (camera z = −world z).
+    fn camera_at(x_m: f64) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(x_m, 0.0, 10.0),
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI),
+        )
+    }
+
+    fn seen_from(camera: &Isometry3<f64>, point: &Point3<f64>) -> Vector2<f64> {
+        let p = camera.inverse_transform_point(point);
+        Vector2::new(p.x / p.z, p.y / p.z)
+    }
+
+    #[test]
+    fn a_longer_baseline_gives_the_same_point_with_a_smaller_sigma() {
+        let rock_top = Point3::new(3.0, 1.0, 0.5);
+        let now = camera_at(4.0);
+        let views = |first_x_m: f64, intervals: u32| TwoViews {
+            world_from_first: camera_at(first_x_m),
+            x_first: seen_from(&camera_at(first_x_m), &rock_top),
+            x_now: seen_from(&now, &rock_top),
+            intervals,
+        };
+        let focal_px = 386.0;
+        let short = triangulate_views(&now, &views(3.0, 1), focal_px).unwrap();
+        let long = triangulate_views(&now, &views(0.0, 4), focal_px).unwrap();
+        for point in [short, long] {
+            assert!((point.position_m - rock_top).norm() < 1e-9, "{point:?}");
+        }
+        // Four times the baseline, but a ray error grown to sqrt(1 + 3 · 0.5) px.
+        let expected = 4.0 / (1.0 + 3.0 * RAY_VARIANCE_PER_INTERVAL_PX2).sqrt();
+        let ratio = short.depth_sigma_m / long.depth_sigma_m;
+        assert!(ratio > 0.8 * expected && ratio < 1.2 * expected, "{ratio}");
+        // A first view off the epipolar line (a track that drifted across it) is refused.
+        let mut drifted = views(0.0, 4);
+        drifted.x_first.y += 10.0 / focal_px;
+        assert!(triangulate_views(&now, &drifted, focal_px).is_none());
+    }
+
+    #[test]
+    fn reprojection_is_checked_in_pixels_and_in_front_of_the_camera() {
+        let point = WorldPoint {
+            position_m: Point3::new(1.0, 0.0, 0.0),
+            height_above_ground_m: None,
+            depth_sigma_m: 0.1,
+        };
+        let camera = camera_at(0.0);
+        let x = seen_from(&camera, &point.position_m);
+        let focal_px = 400.0;
+        assert!(reprojects_within(&camera, &point, &x, focal_px, 2.0));
+        let off = x + Vector2::new(3.0 / focal_px, 0.0);
+        assert!(!reprojects_within(&camera, &point, &off, focal_px, 2.0));
+        let above = WorldPoint {
+            position_m: Point3::new(1.0, 0.0, 20.0),
+            ..point
+        };
+        assert!(!reprojects_within(&camera, &above, &x, focal_px, 2.0));
+    }
 
     #[test]
     fn ground_plane_ignores_rocks() {

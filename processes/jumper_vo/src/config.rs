@@ -38,6 +38,10 @@ pub enum SolverChoice {
     EightPoint,
 }
 
+/// Most keyframes a cloud track may reach back ([`JumperVoConfig::cloud_track_keyframes`]):
+/// the VO keeps this many keyframe poses.
+pub const MAX_CLOUD_TRACK_KEYFRAMES: u32 = 32;
+
 /// Settings of [`crate::pipeline::JumperVo`].
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -83,6 +87,12 @@ pub struct JumperVoConfig {
     pub pixel_sigma_px: f64,
     /// Triangulate and publish a world-frame cloud at keyframes.
     pub publish_cloud: bool,
+    /// A cloud triangulates each track between the current keyframe and the keyframe it was
+    /// born in (its corner detected then and tracked since), if that spans at most this many
+    /// keyframe intervals and the birth view reprojects; otherwise over the last interval.
+    /// The parallax, and with it the depth precision, grows with the track's age. 1
+    /// triangulates over the last interval only. At most [`MAX_CLOUD_TRACK_KEYFRAMES`].
+    pub cloud_track_keyframes: u32,
     /// Largest plausible body angular rate in flight, rad/s (torque-free flight keeps the
     /// launch rate, 0.1 rad/s in Table 1). A vision rotation implying more is rejected
     /// (propagated): a wrong homography/essential solution, or the tumble of an impact.
@@ -128,6 +138,7 @@ impl Default for JumperVoConfig {
             max_speed_mps: 20.0,
             pixel_sigma_px: 0.5,
             publish_cloud: true,
+            cloud_track_keyframes: 8,
             max_angular_rate_radps: 1.0,
             touchdown_margin_m: 0.5,
             touchdown_max_drop_m: 3.0,
@@ -233,6 +244,13 @@ impl JumperVoConfig {
             0.0,
             1.0,
             "[0, 1]",
+        )?;
+        check_count(
+            "cloud_track_keyframes",
+            self.cloud_track_keyframes as usize,
+            1,
+            MAX_CLOUD_TRACK_KEYFRAMES as usize,
+            "[1, 32]",
         )?;
         check_count(
             "keyframe_min_tracks",

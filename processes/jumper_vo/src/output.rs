@@ -58,8 +58,8 @@ pub struct VoOutput {
     pub model: Option<MotionModel>,
     /// Triangulated world-frame points (keyframes only).
     pub cloud: Option<Vec<WorldPoint>>,
-    /// The camera `cloud` was triangulated from: the previous keyframe's attitude at the
-    /// centre the ballistic fit re-anchored (see [`crate::pipeline`]); evaluation recovers each
-    /// point's viewing ray from it.
+    /// The camera every point of `cloud` was triangulated to: this keyframe's (the other view
+    /// of each point is an older keyframe's, see `cloud_track_keyframes`). The depth sigmas are
+    /// ranges from it, and evaluation recovers each point's viewing ray from it.
     pub cloud_world_from_camera: Option<Isometry3<f64>>,
 }

@@ -27,7 +27,10 @@
 //! image comes a frame after the launch.
 
 use crate::ballistic::BallisticFit;
-use crate::cloud::{WorldPoint, fill_heights_above_ground, triangulate_cloud};
+use crate::cloud::{
+    MAX_REPROJECTION_ERROR_PX, TwoViews, WorldPoint, fill_heights_above_ground, reprojects_within,
+    triangulate_views,
+};
 use crate::config::{ConfigError, JumperVoConfig, ScaleMethod, SolverChoice};
 use crate::frames::body_from_camera;
 use crate::output::{FrameInput, VoOutput, VoStatus};
@@ -37,7 +40,10 @@ use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::two_view::{EssentialSolver, MotionModel, TwoViewConfig, TwoViewEstimator};
 use nalgebra::{Isometry3, Point2, Translation3, Unit, UnitQuaternion, Vector2, Vector3};
 
+mod keyframe_history;
 mod landing;
+
+use keyframe_history::{KeyframeHistory, KeyframeRecord};
 
 /// Error creating a [`JumperVo`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -86,6 +92,8 @@ pub struct JumperVo {
     launch_world_from_body: Isometry3<f64>,
     fit: BallisticFit,
     keyframe: Keyframe,
+    /// The hop's recent keyframes, where cloud tracks were born.
+    history: KeyframeHistory,
     last_world_from_body: Isometry3<f64>,
     last_tau_s: f64,
     /// World-frame angular velocity (rotation vector per second).
@@ -193,6 +201,7 @@ impl JumperVo {
                 tau_s: 0.0,
                 camera_altitude_m: None,
             },
+            history: KeyframeHistory::default(),
             last_world_from_body: initial_world_from_body,
             last_tau_s: 0.0,
             angular_velocity_radps: Vector3::zeros(),
@@ -422,6 +431,7 @@ impl JumperVo {
             tau_s: tau0,
             camera_altitude_m: altitude.map(|z| z + lever_z).or(Some(position.z + lever_z)),
         };
+        self.record_keyframe();
         let mut out = self.output(input, VoStatus::Initializing);
         out.confidence = 1.0;
         out.is_keyframe = true;
@@ -611,20 +621,38 @@ impl JumperVo {
                 Translation3::from(est.keyframe_center_m),
                 self.keyframe.world_from_cam.rotation,
             );
-            let cam2_from_cam1 = world_from_cam.inverse() * world_from_cam1;
             let mut points: Vec<WorldPoint> = Vec::with_capacity(est.inliers);
-            triangulate_cloud(
-                &world_from_cam1,
-                &cam2_from_cam1,
-                &self.x1,
-                &self.x2,
-                self.estimator.inliers(),
-                self.camera.mean_focal_px(),
-                &mut points,
-            );
+            let focal_px = self.camera.mean_focal_px();
+            for &i in self.estimator.inliers() {
+                let (Some(x_first), Some(x_now)) = (self.x1.get(i), self.x2.get(i)) else {
+                    continue;
+                };
+                let pair = TwoViews {
+                    world_from_first: world_from_cam1,
+                    x_first: *x_first,
+                    x_now: *x_now,
+                    intervals: 1,
+                };
+                // The track's whole age where it checks out (the point reprojects into its
+                // birth view, the last keyframe and this one), the last interval otherwise.
+                let point = self
+                    .birth_views(i)
+                    .and_then(|views| triangulate_views(&world_from_cam, &views, focal_px))
+                    .filter(|point| {
+                        reprojects_within(
+                            &world_from_cam1,
+                            point,
+                            x_first,
+                            focal_px,
+                            MAX_REPROJECTION_ERROR_PX,
+                        )
+                    })
+                    .or_else(|| triangulate_views(&world_from_cam, &pair, focal_px));
+                points.extend(point);
+            }
             fill_heights_above_ground(&mut points);
             cloud = Some(points);
-            cloud_world_from_camera = Some(world_from_cam1);
+            cloud_world_from_camera = Some(world_from_cam);
         }
         self.tracks.retain(&self.keep);
         let mut tracked_after = est.tracked;
@@ -640,6 +668,7 @@ impl JumperVo {
                     .map(|z| z + lever.z)
                     .or(Some(world_from_cam.translation.z)),
             };
+            self.record_keyframe();
         }
         self.update_rates(&pose, tau, true);
         let inlier_ratio = est.inliers as f64 / est.tracked.max(1) as f64;
@@ -657,6 +686,44 @@ impl JumperVo {
             cloud,
             cloud_world_from_camera,
         }
+    }
+
+    /// Remembers the keyframe just set, under the tracker's serial.
+    fn record_keyframe(&mut self) {
+        self.history.record(KeyframeRecord {
+            serial: self.tracks.keyframe_serial(),
+            launch_t_s: self.launch_t_s,
+            tau_s: self.keyframe.tau_s,
+            world_from_cam: self.keyframe.world_from_cam,
+        });
+    }
+
+    /// Track `i` seen from the keyframe it was born in and now, when that keyframe is older
+    /// than the current one and within `cloud_track_keyframes`. The birth camera's position
+    /// is the fit's at that instant (plus the lever arm), as the current keyframe's is.
+    fn birth_views(&self, i: usize) -> Option<TwoViews> {
+        let serial = *self.tracks.birth_serial().get(i)?;
+        let age = self.tracks.keyframe_serial().wrapping_sub(serial);
+        if age == 0 || age > self.config.cloud_track_keyframes.saturating_sub(1) {
+            return None;
+        }
+        let record = self.history.get(serial, self.launch_t_s)?;
+        let rotation = record.rotation();
+        let centre_m = match self.config.scale_method {
+            ScaleMethod::Ballistic => {
+                let lever =
+                    self.lever_world(&(rotation * self.body_from_camera.rotation.inverse()));
+                self.fit.position_m(record.tau_s)?.coords + lever
+            }
+            ScaleMethod::PaperEq4 => record.world_from_cam.translation.vector,
+        };
+        let birth_px = self.tracks.birth_px().get(i)?;
+        Some(TwoViews {
+            world_from_first: Isometry3::from_parts(Translation3::from(centre_m), rotation),
+            x_first: self.camera.pixel_f32_to_normalized(*birth_px),
+            x_now: *self.x2.get(i)?,
+            intervals: age + 1,
+        })
     }
 
     fn propagate(
@@ -683,6 +750,7 @@ impl JumperVo {
                 .map(|z| z + lever.z)
                 .or(Some(world_from_cam.translation.z)),
         };
+        self.record_keyframe();
         let w = self.angular_velocity_radps;
         self.update_rates(&pose, tau, false);
         self.angular_velocity_radps = w;

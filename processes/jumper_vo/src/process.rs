@@ -240,12 +240,15 @@ impl Process for JumperVoProcess {
             let len = cloud.len().min(self.clouds.max_len());
             self.keyframes += 1;
             let keyframe_index = self.keyframes;
+            let cloud_camera = output
+                .cloud_world_from_camera
+                .map_or(world_from_body, |camera| Pose3::from_isometry(&camera));
             self.clouds.send_from_fn(
                 len,
                 |cloud_header| {
                     cloud_header.stamp.frame_index = stamp.frame_index;
                     cloud_header.stamp.sim_time_ns = stamp.sim_time_ns;
-                    cloud_header.world_from_camera = world_from_body;
+                    cloud_header.world_from_camera = cloud_camera;
                     cloud_header.point_count = len as u32;
                     cloud_header.robot = Robot::Jumper.code();
                     cloud_header.keyframe_index = keyframe_index;

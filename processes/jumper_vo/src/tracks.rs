@@ -4,7 +4,10 @@
 //!
 //! The initial KLT guess of a track is its last displacement (constant image velocity), which
 //! keeps the pyramid search small under the large flow of a 10 fps hop. New corners are only
-//! added when a keyframe is set, so every live track has a keyframe position.
+//! added when a keyframe is set, so every live track has a keyframe position, and each track
+//! also remembers where it was born: the keyframe ([`FeatureTracks::keyframe_serial`]) and
+//! position where its corner was detected, so a cloud can triangulate it over all the
+//! parallax it has gathered since, not only over the last keyframe interval.
 
 use hopnav_vision::corners::{Corner, CornerConfig, CornerDetector, CornerError};
 use hopnav_vision::image::ImageView;
@@ -43,6 +46,12 @@ pub struct FeatureTracks {
     cur_px: Vec<Point2<f32>>,
     /// Positions in the keyframe.
     kf_px: Vec<Point2<f32>>,
+    /// Positions in the keyframe the track was born in.
+    birth_px: Vec<Point2<f32>>,
+    /// Serial of the keyframe the track was born in.
+    birth_serial: Vec<u32>,
+    /// Serial of the current keyframe (counts every [`Self::set_keyframe`]).
+    keyframe_serial: u32,
     /// Last image displacement (prediction for the next frame).
     flow_px: Vec<Vector2<f32>>,
     /// Pyramid levels KLT searches per track: all for new corners (median-flow guess), fewer
@@ -92,6 +101,9 @@ impl FeatureTracks {
             max_features,
             cur_px: Vec::with_capacity(max_features),
             kf_px: Vec::with_capacity(max_features),
+            birth_px: Vec::with_capacity(max_features),
+            birth_serial: Vec::with_capacity(max_features),
+            keyframe_serial: 0,
             flow_px: Vec::with_capacity(max_features),
             levels: Vec::with_capacity(max_features),
             tracked_levels: TRACKED_LEVELS,
@@ -147,6 +159,8 @@ impl FeatureTracks {
                 self.flow_px[kept] = p - self.cur_px[i];
                 self.cur_px[kept] = p;
                 self.kf_px[kept] = self.kf_px[i];
+                self.birth_px[kept] = self.birth_px[i];
+                self.birth_serial[kept] = self.birth_serial[i];
                 self.levels[kept] = self.tracked_levels;
                 kept += 1;
             }
@@ -164,6 +178,8 @@ impl FeatureTracks {
     fn clear_tracks(&mut self) {
         self.cur_px.clear();
         self.kf_px.clear();
+        self.birth_px.clear();
+        self.birth_serial.clear();
         self.flow_px.clear();
         self.levels.clear();
         self.keyframe_count = 0;
@@ -176,6 +192,8 @@ impl FeatureTracks {
             if keep.get(i).copied().unwrap_or(false) {
                 self.cur_px[kept] = self.cur_px[i];
                 self.kf_px[kept] = self.kf_px[i];
+                self.birth_px[kept] = self.birth_px[i];
+                self.birth_serial[kept] = self.birth_serial[i];
                 self.flow_px[kept] = self.flow_px[i];
                 self.levels[kept] = self.levels[i];
                 kept += 1;
@@ -187,6 +205,8 @@ impl FeatureTracks {
     fn truncate(&mut self, len: usize) {
         self.cur_px.truncate(len);
         self.kf_px.truncate(len);
+        self.birth_px.truncate(len);
+        self.birth_serial.truncate(len);
         self.flow_px.truncate(len);
         self.levels.truncate(len);
     }
@@ -194,6 +214,7 @@ impl FeatureTracks {
     /// Makes the last frame the keyframe and tops the tracks up with new corners (paper step
     /// 1). New tracks predict the median flow of the old ones. Returns the track count.
     pub fn set_keyframe(&mut self) -> Result<usize, TrackError> {
+        self.keyframe_serial = self.keyframe_serial.wrapping_add(1);
         self.kf_px.clear();
         self.kf_px.extend_from_slice(&self.cur_px);
         if !self.has_prev {
@@ -210,6 +231,8 @@ impl FeatureTracks {
                 }
                 self.cur_px.push(c.position_px);
                 self.kf_px.push(c.position_px);
+                self.birth_px.push(c.position_px);
+                self.birth_serial.push(self.keyframe_serial);
                 self.flow_px.push(median_flow);
                 self.levels.push(u8::MAX);
             }
@@ -238,6 +261,22 @@ impl FeatureTracks {
         &self.kf_px
     }
 
+    /// Positions of the same tracks in the keyframe each was born in.
+    pub fn birth_px(&self) -> &[Point2<f32>] {
+        &self.birth_px
+    }
+
+    /// Serial of the keyframe each track was born in (see [`Self::keyframe_serial`]).
+    pub fn birth_serial(&self) -> &[u32] {
+        &self.birth_serial
+    }
+
+    /// Serial of the current keyframe: it grows by one at every [`Self::set_keyframe`], so a
+    /// track born `n` keyframes ago has `birth_serial = keyframe_serial − n`.
+    pub fn keyframe_serial(&self) -> u32 {
+        self.keyframe_serial
+    }
+
     /// Tracks alive when the keyframe was set.
     pub fn keyframe_count(&self) -> usize {
         self.keyframe_count
@@ -264,4 +303,78 @@ fn median_flow(flow: &[Vector2<f32>], scratch: &mut [Vec<f32>; 2]) -> Vector2<f3
     let x = *xs.select_nth_unstable_by(mid, f32::total_cmp).1;
     let y = *ys.select_nth_unstable_by(mid, f32::total_cmp).1;
     Vector2::new(x, y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hopnav_vision::synthetic::{AffineWarp, BlobTexture};
+
+    const SIZE_PX: usize = 160;
+
+    fn frame(texture: &BlobTexture, shift_px: f64) -> Vec<u8> {
+        let mut image = vec![0u8; SIZE_PX * SIZE_PX];
+        texture.render(
+            SIZE_PX,
+            SIZE_PX,
+            &AffineWarp::translation(shift_px, 0.5 * shift_px),
+            &mut image,
+        );
+        image
+    }
+
+    #[test]
+    fn a_track_keeps_its_birth_keyframe_and_position_across_keyframes() {
+        let texture = BlobTexture::random(SIZE_PX, SIZE_PX, 300, 7);
+        let mut tracks = FeatureTracks::new(SIZE_PX, SIZE_PX, 150).unwrap();
+        let first = frame(&texture, 0.0);
+        tracks
+            .track(&ImageView::packed(&first, SIZE_PX, SIZE_PX).unwrap())
+            .unwrap();
+        tracks.set_keyframe().unwrap();
+        let born_serial = tracks.keyframe_serial();
+        assert!(tracks.birth_serial().iter().all(|&s| s == born_serial));
+        assert_eq!(tracks.birth_px(), tracks.keyframe_px());
+        let born_px: Vec<Point2<f32>> = tracks.birth_px().to_vec();
+        for step in 1..=6 {
+            let image = frame(&texture, 1.5 * f64::from(step));
+            tracks
+                .track(&ImageView::packed(&image, SIZE_PX, SIZE_PX).unwrap())
+                .unwrap();
+            if step % 2 == 0 {
+                // Drop every fifth track, as RANSAC would, then set a keyframe.
+                let keep: Vec<bool> = (0..tracks.current_px().len()).map(|i| i % 5 != 0).collect();
+                tracks.retain(&keep);
+                tracks.set_keyframe().unwrap();
+            }
+        }
+        assert_eq!(tracks.keyframe_serial(), born_serial + 3);
+        let (births, serials) = (tracks.birth_px(), tracks.birth_serial());
+        assert_eq!(births.len(), tracks.current_px().len());
+        let old: Vec<usize> = (0..serials.len())
+            .filter(|&i| serials[i] == born_serial)
+            .collect();
+        assert!(
+            old.len() > 20,
+            "only {} tracks from the first keyframe",
+            old.len()
+        );
+        for &i in &old {
+            // Born in the first frame: the image moved by (9, 4.5) px since.
+            let moved = tracks.current_px()[i] - births[i];
+            assert!(
+                (moved.x - 9.0).abs() < 0.5 && (moved.y - 4.5).abs() < 0.5,
+                "{moved:?}"
+            );
+            assert!(born_px.contains(&births[i]));
+        }
+        // Corners added at later keyframes were born there.
+        assert!(
+            serials
+                .iter()
+                .all(|&s| s >= born_serial && s <= born_serial + 3)
+        );
+        tracks.reset();
+        assert!(tracks.birth_px().is_empty() && tracks.birth_serial().is_empty());
+    }
 }

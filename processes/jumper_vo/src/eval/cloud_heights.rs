@@ -3,9 +3,10 @@
 //! honest, and how many points on rocks of each height the mapper's rule would call high.
 //!
 //! Each point is matched to the surface it came from by casting its viewing ray from the
-//! **true** camera centre of the cloud's first keyframe: the ray direction is good to a pixel,
-//! while the point's range (and the estimated keyframe pose) carry the errors under test. The
-//! surface is the terrain and the rocks' meshes, as the camera renders them.
+//! **true** camera centre of the cloud's keyframe (the camera all its points share): the ray
+//! direction is good to a pixel, while the point's range (and the estimated keyframe pose)
+//! carry the errors under test. The surface is the terrain and the rocks' meshes, as the
+//! camera renders them.
 
 use hopnav_world::World;
 use nalgebra::{Isometry3, Point3};
@@ -15,8 +16,8 @@ use super::truth_surface::{SurfaceHit, TruthSurface};
 use crate::simulate::SimulatedHop;
 
 /// The mapper's test for a jumper point (defaults: `config/default.toml`'s `[mapper]`). Its
-/// height sigma is the depth sigma times the vertical part of the ray from the pose the
-/// cloud is published with (the second keyframe's) to the point, as the mapper computes it.
+/// height sigma is the depth sigma times the vertical part of the ray from the camera the
+/// cloud is published with to the point, as the mapper computes it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HighRule {
     /// Points whose depth sigma exceeds this are dropped, metres.
@@ -95,28 +96,20 @@ impl CloudHeightStats {
     /// Adds one hop's clouds: `run` is the VO over `hop`, rendered from `world`.
     pub fn add_hop(&mut self, world: &World, hop: &SimulatedHop, run: &HopRun, rule: &HighRule) {
         let surface = TruthSurface::new(world);
-        // Frame index of the last keyframe: the first camera of the next cloud.
-        let mut keyframe_frame = None;
         for out in &run.outputs {
-            let first_frame = keyframe_frame;
-            if out.is_keyframe {
-                keyframe_frame = Some(out.frame_index);
-            }
             let (Some(cloud), Some(estimated_camera)) = (&out.cloud, out.cloud_world_from_camera)
             else {
                 continue;
             };
-            let Some(truth) = first_frame
-                .and_then(|frame| usize::try_from(frame).ok())
+            let Some(truth) = usize::try_from(out.frame_index)
+                .ok()
                 .and_then(|frame| hop.truth_world_from_body.get(frame))
             else {
                 continue;
             };
             let true_camera = truth * hop.body_from_camera;
             let estimated_camera_from_world = estimated_camera.inverse();
-            // The mapper takes a point's height sigma along the ray from the pose the cloud
-            // is published with (the body at this, the second, keyframe).
-            let published_from_m = out.world_from_body.translation.vector;
+            let published_from_m = estimated_camera.translation.vector;
             self.clouds += 1;
             for point in cloud {
                 let to_point = point.position_m.coords - published_from_m;
@@ -204,9 +197,9 @@ mod tests {
     /// The VO's placement error of the cloud camera along x, metres (wider than the rock).
     const CAMERA_ERROR_X_M: f64 = 1.5;
 
-    /// Keyframes 10 m up at x = 0 and x = 2 m, looking down. The VO placed the first keyframe
+    /// Keyframes 10 m up at x = 0 and x = 2 m, looking down. The VO placed the second keyframe
     /// (the cloud's camera) [`CAMERA_ERROR_X_M`] off, so every point of `true_points` reaches
-    /// the cloud shifted by that much; the stored keyframe poses are off by 0.7 m more.
+    /// the cloud shifted by that much; the published body poses are off by 0.7 m more.
     fn stats_of(true_points: Vec<WorldPoint>) -> CloudHeightStats {
         let world = flat_world_with_a_rock();
         let keyframe = |x_m: f64| Isometry3::translation(x_m, 0.0, 10.0);
@@ -232,7 +225,7 @@ mod tests {
         let output = |frame_index: u64, cloud: Option<Vec<WorldPoint>>| VoOutput {
             frame_index,
             t_s: 0.1 * frame_index as f64,
-            // The stored pose is not the re-anchored one the cloud was triangulated from.
+            // The body pose is not the camera the cloud was triangulated to.
             world_from_body: keyframe(2.0 * frame_index as f64 + CAMERA_ERROR_X_M + 0.7),
             confidence: 1.0,
             status: VoStatus::Tracking,
@@ -241,7 +234,9 @@ mod tests {
             inliers: 0,
             scale: None,
             model: None,
-            cloud_world_from_camera: cloud.as_ref().map(|_| keyframe(CAMERA_ERROR_X_M)),
+            cloud_world_from_camera: cloud
+                .as_ref()
+                .map(|_| keyframe(2.0 * frame_index as f64 + CAMERA_ERROR_X_M)),
             cloud,
         };
         let run = HopRun {
@@ -281,7 +276,7 @@ mod tests {
         assert_eq!(stats.ground_points, 1);
         assert_eq!(stats.ground_called_high, 0);
         assert!((stats.ground_rms_m().unwrap() - 0.1).abs() < 1e-9);
-        // Seen from the published pose 2 m beside it, the point's ray is steep: height sigma
+        // Seen from the cloud's camera 2 m beside it, the point's ray is steep: height sigma
         // ≈ 0.98 · depth sigma, z ≈ 2.04.
         let z = stats.ground_z_rms().unwrap();
         assert!(z > 2.0 && z < 2.1, "{z}");

@@ -51,13 +51,14 @@ pub const MAX_REPROJECTION_ERROR_PX: f64 = 2.0;
 /// `hopnav eval jumper-clouds` stay as honest in their sigmas as over one interval.
 pub const RAY_VARIANCE_PER_INTERVAL_PX2: f64 = 0.5;
 
-/// Triangulates `views` against the current keyframe camera `world_from_now` and returns the
+/// Triangulates `views` against the current keyframe camera (`now_from_world`, its inverse
+/// pose, taken once per cloud) and returns the
 /// accepted point in the world frame. Its depth sigma is the range from the current camera
 /// (the viewpoint every point of a cloud shares, published with it) for the ray error at the
 /// point's parallax: 1 px over one keyframe interval, growing with
 /// [`RAY_VARIANCE_PER_INTERVAL_PX2`] per further interval.
 pub fn triangulate_views(
-    world_from_now: &Isometry3<f64>,
+    now_from_world: &Isometry3<f64>,
     views: &TwoViews,
     focal_px: f64,
 ) -> Option<WorldPoint> {
@@ -67,7 +68,7 @@ pub fn triangulate_views(
         min_depth: 0.05,
         max_depth: 500.0,
     };
-    let now_from_first = world_from_now.inverse() * views.world_from_first;
+    let now_from_first = now_from_world * views.world_from_first;
     let p = triangulate_checked(
         &now_from_first,
         &views.x_first,
@@ -276,8 +277,9 @@ mod tests {
             intervals,
         };
         let focal_px = 386.0;
-        let short = triangulate_views(&now, &views(3.0, 1), focal_px).unwrap();
-        let long = triangulate_views(&now, &views(0.0, 4), focal_px).unwrap();
+        let now_from_world = now.inverse();
+        let short = triangulate_views(&now_from_world, &views(3.0, 1), focal_px).unwrap();
+        let long = triangulate_views(&now_from_world, &views(0.0, 4), focal_px).unwrap();
         for point in [short, long] {
             assert!((point.position_m - rock_top).norm() < 1e-9, "{point:?}");
         }
@@ -288,7 +290,7 @@ mod tests {
         // A first view off the epipolar line (a track that drifted across it) is refused.
         let mut drifted = views(0.0, 4);
         drifted.x_first.y += 10.0 / focal_px;
-        assert!(triangulate_views(&now, &drifted, focal_px).is_none());
+        assert!(triangulate_views(&now_from_world, &drifted, focal_px).is_none());
     }
 
     #[test]

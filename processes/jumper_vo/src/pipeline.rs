@@ -27,10 +27,7 @@
 //! image comes a frame after the launch.
 
 use crate::ballistic::BallisticFit;
-use crate::cloud::{
-    MAX_REPROJECTION_ERROR_PX, TwoViews, WorldPoint, fill_heights_above_ground, reprojects_within,
-    triangulate_views,
-};
+use crate::cloud::fill_heights_above_ground;
 use crate::config::{ConfigError, JumperVoConfig, ScaleMethod, SolverChoice};
 use crate::frames::body_from_camera;
 use crate::output::{FrameInput, VoOutput, VoStatus};
@@ -40,10 +37,11 @@ use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::two_view::{EssentialSolver, MotionModel, TwoViewConfig, TwoViewEstimator};
 use nalgebra::{Isometry3, Point2, Translation3, Unit, UnitQuaternion, Vector2, Vector3};
 
+mod cloud_tracks;
 mod keyframe_history;
 mod landing;
 
-use keyframe_history::{KeyframeHistory, KeyframeRecord};
+use keyframe_history::KeyframeHistory;
 
 /// Error creating a [`JumperVo`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -621,35 +619,7 @@ impl JumperVo {
                 Translation3::from(est.keyframe_center_m),
                 self.keyframe.world_from_cam.rotation,
             );
-            let mut points: Vec<WorldPoint> = Vec::with_capacity(est.inliers);
-            let focal_px = self.camera.mean_focal_px();
-            for &i in self.estimator.inliers() {
-                let (Some(x_first), Some(x_now)) = (self.x1.get(i), self.x2.get(i)) else {
-                    continue;
-                };
-                let pair = TwoViews {
-                    world_from_first: world_from_cam1,
-                    x_first: *x_first,
-                    x_now: *x_now,
-                    intervals: 1,
-                };
-                // The track's whole age where it checks out (the point reprojects into its
-                // birth view, the last keyframe and this one), the last interval otherwise.
-                let point = self
-                    .birth_views(i)
-                    .and_then(|views| triangulate_views(&world_from_cam, &views, focal_px))
-                    .filter(|point| {
-                        reprojects_within(
-                            &world_from_cam1,
-                            point,
-                            x_first,
-                            focal_px,
-                            MAX_REPROJECTION_ERROR_PX,
-                        )
-                    })
-                    .or_else(|| triangulate_views(&world_from_cam, &pair, focal_px));
-                points.extend(point);
-            }
+            let mut points = self.triangulate_keyframe_cloud(&world_from_cam1, &world_from_cam);
             fill_heights_above_ground(&mut points);
             cloud = Some(points);
             cloud_world_from_camera = Some(world_from_cam);
@@ -686,44 +656,6 @@ impl JumperVo {
             cloud,
             cloud_world_from_camera,
         }
-    }
-
-    /// Remembers the keyframe just set, under the tracker's serial.
-    fn record_keyframe(&mut self) {
-        self.history.record(KeyframeRecord {
-            serial: self.tracks.keyframe_serial(),
-            launch_t_s: self.launch_t_s,
-            tau_s: self.keyframe.tau_s,
-            world_from_cam: self.keyframe.world_from_cam,
-        });
-    }
-
-    /// Track `i` seen from the keyframe it was born in and now, when that keyframe is older
-    /// than the current one and within `cloud_track_keyframes`. The birth camera's position
-    /// is the fit's at that instant (plus the lever arm), as the current keyframe's is.
-    fn birth_views(&self, i: usize) -> Option<TwoViews> {
-        let serial = *self.tracks.birth_serial().get(i)?;
-        let age = self.tracks.keyframe_serial().wrapping_sub(serial);
-        if age == 0 || age > self.config.cloud_track_keyframes.saturating_sub(1) {
-            return None;
-        }
-        let record = self.history.get(serial, self.launch_t_s)?;
-        let rotation = record.rotation();
-        let centre_m = match self.config.scale_method {
-            ScaleMethod::Ballistic => {
-                let lever =
-                    self.lever_world(&(rotation * self.body_from_camera.rotation.inverse()));
-                self.fit.position_m(record.tau_s)?.coords + lever
-            }
-            ScaleMethod::PaperEq4 => record.world_from_cam.translation.vector,
-        };
-        let birth_px = self.tracks.birth_px().get(i)?;
-        Some(TwoViews {
-            world_from_first: Isometry3::from_parts(Translation3::from(centre_m), rotation),
-            x_first: self.camera.pixel_f32_to_normalized(*birth_px),
-            x_now: *self.x2.get(i)?,
-            intervals: age + 1,
-        })
     }
 
     fn propagate(

@@ -7,6 +7,7 @@ pub mod cloud;
 pub mod config;
 pub mod eval;
 pub mod frames;
+pub mod launch_check;
 pub mod output;
 pub mod pipeline;
 pub mod process;

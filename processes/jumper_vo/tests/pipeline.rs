@@ -377,3 +377,48 @@ fn clouds_after_takeoff_put_no_rock_on_bare_ground() {
         );
     }
 }
+
+/// A launch deflected by a rock in its way flies a lower, slower arc than commanded. It climbs less than half the commanded height, so an altimeter test of
+/// "stayed" against "the commanded arc" prefers "stayed"; but the jumper did fly, and the VO
+/// must follow it (vision gives the arc) rather than land it back where it started.
+#[test]
+fn a_deflected_launch_that_flies_a_low_arc_is_followed_not_called_failed() {
+    for (speed_mps, elevation_deg) in [(6.0, 45.0), (5.0, 40.0)] {
+        let mut cfg = SimConfig::default();
+        cfg.world.terrain.size_x_m = 64.0;
+        cfg.world.terrain.size_y_m = 48.0;
+        cfg.hop.launch_position_m.x = -4.0;
+        cfg.hop.speed_mps = speed_mps;
+        cfg.hop.elevation_rad = f64::to_radians(elevation_deg);
+        let flight_frames = (cfg.hop.flight_time_s() * cfg.fps) as usize;
+        cfg.num_frames = Some(flight_frames + 6);
+        let sim = simulate_hop(&cfg).unwrap();
+        // The VO is told the Table-1 command (10 m/s at 60°), not the arc flown.
+        let run = run_hop(&sim, &JumperVoConfig::default()).unwrap();
+        let first_landed = run
+            .outputs
+            .iter()
+            .position(|o| o.status == VoStatus::Landed)
+            .unwrap_or(run.outputs.len());
+        let last = run.outputs.len() - 1;
+        let truth = sim.truth_world_from_body[last].translation.vector;
+        let launch = sim.truth_world_from_body[0].translation.vector;
+        let error_m = (run.outputs[last].world_from_body.translation.vector - truth)
+            .xy()
+            .norm();
+        let range_m = (truth - launch).xy().norm();
+        println!(
+            "{speed_mps} m/s at {elevation_deg}°: range {range_m:.1} m, landed at frame \
+             {first_landed} of {flight_frames}, final error {error_m:.2} m"
+        );
+        assert!(
+            first_landed + 4 >= flight_frames,
+            "{speed_mps} m/s at {elevation_deg}°: landed at frame {first_landed} of a \
+             {flight_frames}-frame flight"
+        );
+        assert!(
+            error_m < 0.25 * range_m,
+            "{speed_mps} m/s at {elevation_deg}°: {error_m:.2} m off after a {range_m:.1} m hop"
+        );
+    }
+}

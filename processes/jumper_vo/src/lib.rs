@@ -7,7 +7,6 @@ pub mod cloud;
 pub mod config;
 pub mod eval;
 pub mod frames;
-pub mod launch_check;
 pub mod output;
 pub mod pipeline;
 pub mod process;

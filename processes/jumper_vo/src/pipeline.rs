@@ -30,7 +30,6 @@ use crate::ballistic::BallisticFit;
 use crate::cloud::fill_heights_above_ground;
 use crate::config::{ConfigError, JumperVoConfig, ScaleMethod, SolverChoice};
 use crate::frames::body_from_camera;
-use crate::launch_check::LaunchCheck;
 use crate::output::{FrameInput, VoOutput, VoStatus};
 use crate::scale;
 use crate::tracks::{FeatureTracks, TrackError};
@@ -113,8 +112,9 @@ pub struct JumperVo {
     /// Consecutive well-tracked frames with a still image while the fit still climbs: a hop
     /// that never left the ground (the jumper wedged against a rock, or on its side).
     still_climbing_frames: u32,
-    /// The altimeter's evidence, since launch, on whether the hop left the ground.
-    launch_check: LaunchCheck,
+    /// Log-likelihood ratio, over the altimeter samples since launch, of "the commanded hop
+    /// flies" against "the body stayed at its launch altitude".
+    launch_llr: f64,
 }
 
 /// Where and how fast the jumper came down; the landed position slides from there.
@@ -211,7 +211,7 @@ impl JumperVo {
             commanded_velocity_mps: Vector3::zeros(),
             touchdown: None,
             still_climbing_frames: 0,
-            launch_check: LaunchCheck::new(0.0, config.gravity_mps2, config.altimeter_sigma_m),
+            launch_llr: 0.0,
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -232,6 +232,7 @@ impl JumperVo {
         self.pending_launch_t_s = None;
         self.touchdown = None;
         self.still_climbing_frames = 0;
+        self.launch_llr = 0.0;
         self.commanded_velocity_mps = Vector3::zeros();
         self.launch_world_from_body = world_from_body;
         self.last_world_from_body = world_from_body;
@@ -250,11 +251,6 @@ impl JumperVo {
             self.velocity_mps = v;
             self.commanded_velocity_mps = v;
         }
-        self.launch_check = LaunchCheck::new(
-            self.commanded_velocity_mps.z,
-            self.config.gravity_mps2,
-            self.config.altimeter_sigma_m,
-        );
         let [wx, wy, wz] = self.config.launch_angular_velocity_body_radps;
         self.angular_velocity_radps = world_from_body.rotation * Vector3::new(wx, wy, wz);
         self.tracks.reset();

@@ -7,15 +7,23 @@ use crate::output::{FrameInput, VoOutput, VoStatus};
 use nalgebra::{Isometry3, Translation3, Vector3};
 
 impl JumperVo {
-    /// Adds an altimeter sample to [`Self::launch_check`].
+    /// Adds an altimeter sample to [`Self::launch_llr`], while the commanded arc climbs.
     pub(super) fn weigh_launch(&mut self, tau: f64, altitude_m: f64) {
+        let v = self.commanded_velocity_mps;
+        let climbed_m = v.z * tau - 0.5 * self.config.gravity_mps2 * tau * tau;
+        if v.z <= 0.0 || climbed_m <= 0.0 || tau * self.config.gravity_mps2 > v.z {
+            return;
+        }
         let z0 = self.fit.launch_position_m().z;
-        self.launch_check.add(tau, altitude_m - z0);
+        let sigma = self.config.altimeter_sigma_m.max(1e-3);
+        let stayed = altitude_m - z0;
+        let flew = altitude_m - z0 - climbed_m;
+        self.launch_llr += (stayed * stayed - flew * flew) / (2.0 * sigma * sigma);
     }
 
-    /// True once the altimeter says the body stayed at its launch altitude
-    /// ([`crate::launch_check::LaunchCheck::failed`]: neither the commanded arc nor a lower,
-    /// deflected one), or the image has stayed still for [`FAILED_LAUNCH_STILL_FRAMES`] well-tracked frames while the fit still climbs. A real
+    /// True once the altimeter says the body stayed at its launch altitude (odds of
+    /// e^[`FAILED_LAUNCH_LLR`] against the commanded climb), or the image has stayed still for
+    /// [`FAILED_LAUNCH_STILL_FRAMES`] well-tracked frames while the fit still climbs. A real
     /// flight is never still (at 4 m/s and 10 m up the ground moves ~15 px per frame), and a
     /// still image on the way down is a landing. Near the ground a wedged body's small rocking
     /// moves the image more than that, hence the altimeter.
@@ -31,7 +39,8 @@ impl JumperVo {
         } else {
             self.still_climbing_frames = 0;
         }
-        self.still_climbing_frames >= FAILED_LAUNCH_STILL_FRAMES || self.launch_check.failed()
+        self.still_climbing_frames >= FAILED_LAUNCH_STILL_FRAMES
+            || self.launch_llr < -FAILED_LAUNCH_LLR
     }
 
     pub(super) fn land(
@@ -194,3 +203,7 @@ const LANDING_PRIOR_WEIGHT: f64 = 4.0;
 
 /// Still frames while climbing after which a hop counts as never having left the ground.
 const FAILED_LAUNCH_STILL_FRAMES: u32 = 3;
+
+/// Log-odds against the commanded climb at which a hop counts as never having left the ground
+/// (e^12: a real climb of a few metres reaches the opposite sign within a second).
+const FAILED_LAUNCH_LLR: f64 = 12.0;

@@ -19,6 +19,7 @@ use iceoryx2::waitset::WaitSetRunResult;
 use crate::LaunchError;
 use crate::child::{ChildProcess, ChildSpec, ProgressSample};
 use crate::fault_injector::{FaultAction, FaultInjector};
+use crate::hang_verdict::{Silence, SilenceLimits, hang_verdict};
 use crate::janitor::Janitor;
 use crate::mission::MissionObserver;
 use crate::relay::SlotRelays;
@@ -734,8 +735,11 @@ impl FrameLoop {
     fn hung_processes(&mut self) -> Vec<(usize, String)> {
         let mut hung = Vec::new();
         let period = self.period;
-        let hard_limit = period * self.config.watchdog.heartbeat_timeout_frames;
-        let stall_limit = period.mul_f64(self.config.watchdog.stall_timeout_frames);
+        let limits = SilenceLimits {
+            period,
+            stall: period.mul_f64(self.config.watchdog.stall_timeout_frames),
+            hard_frames: self.config.watchdog.heartbeat_timeout_frames,
+        };
         let startup_limit = Duration::from_secs_f64(self.config.run.startup_timeout_s);
         let now = Instant::now();
         for (slot_index, slot) in self.stats.slots.iter_mut().enumerate() {
@@ -746,7 +750,6 @@ impl FrameLoop {
                 continue;
             };
             let silence = now.duration_since(slot.last_heartbeat);
-            let frames = silence.as_secs_f64() / period.as_secs_f64();
             let why = match slot.phase {
                 Phase::Starting { .. } if silence > startup_limit => Some(format!(
                     "not ready after {:.1} s (run.startup_timeout_s)",
@@ -754,30 +757,15 @@ impl FrameLoop {
                 )),
                 Phase::Running if silence > period => {
                     let progress = ProgressSample::read(pid);
-                    let baseline = *slot
+                    let (baseline_cpu_ticks, seen_at) = *slot
                         .silence_cpu_ticks
-                        .get_or_insert(progress.map_or(0, |sample| sample.cpu_ticks));
-                    // The most telling reason first: a supervisor that itself ran late (a
-                    // loaded machine) still reports a stopped child as stopped.
-                    match progress {
-                        Some(sample) if silence > stall_limit && sample.stopped => Some(format!(
-                            "stopped, no heartbeat for {frames:.1} frame periods"
-                        )),
-                        _ if silence > hard_limit => Some(format!(
-                            "no heartbeat for {frames:.1} frame periods, watchdog.heartbeat_timeout_frames = {}",
-                            self.config.watchdog.heartbeat_timeout_frames
-                        )),
-                        Some(sample)
-                            if silence > stall_limit
-                                && !sample.busy
-                                && sample.cpu_ticks == baseline =>
-                        {
-                            Some(format!(
-                                "asleep without using CPU, no heartbeat for {frames:.1} frame periods"
-                            ))
-                        }
-                        _ => None,
-                    }
+                        .get_or_insert((progress.map_or(0, |sample| sample.cpu_ticks), now));
+                    let silence = Silence {
+                        silent_for: silence,
+                        watched_for: now.duration_since(seen_at),
+                        baseline_cpu_ticks,
+                    };
+                    hang_verdict(&limits, &silence, progress)
                 }
                 _ => {
                     slot.silence_cpu_ticks = None;

@@ -11,6 +11,7 @@ mod error;
 pub mod fault_injector;
 mod frame_loop;
 pub mod full_knowledge;
+mod hang_verdict;
 pub mod hop_counter;
 mod janitor;
 mod launch;

@@ -64,8 +64,9 @@ pub struct Slot {
     pub standby: Option<ChildProcess>,
     /// A standby died on its own: restarts of this slot are cold from then on.
     pub standby_failed: bool,
-    /// CPU time of the current child when its silence passed one frame period (watchdog).
-    pub silence_cpu_ticks: Option<u64>,
+    /// CPU time of the current child when the watchdog first saw its silence pass one frame
+    /// period, and when it saw it.
+    pub silence_cpu_ticks: Option<(u64, Instant)>,
     /// Start-up time the current incarnation reported in its ready heartbeat, s.
     pub last_startup_s: Option<f64>,
 }

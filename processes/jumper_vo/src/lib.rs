@@ -13,5 +13,6 @@ pub mod process;
 pub mod rng;
 pub mod scale;
 pub mod simulate;
+pub mod spin;
 pub mod tracks;
 pub mod trajectory;

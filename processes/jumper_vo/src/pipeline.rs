@@ -8,7 +8,8 @@
 //!    (or 8-point) essential RANSAC and homography RANSAC, model selection, homography
 //!    decomposition picked with the gravity direction predicted by the current attitude;
 //! 3. attitude: `world_from_cam_kf · cam_kf_from_cam_cur` (rotation error grows per keyframe,
-//!    not per frame);
+//!    not per frame); with `attitude_from_spin_fit`, the launch attitude turned by one constant
+//!    angular rate fitted to the keyframe intervals ([`crate::spin`]: torque-free flight);
 //! 4. translation direction in the world frame (eq. 5), scaled by the configured
 //!    [`ScaleMethod`]; position = keyframe position + scale · direction (step 6);
 //! 5. keyframe when the median rotation-compensated parallax or the surviving track count
@@ -32,6 +33,7 @@ use crate::config::{ConfigError, JumperVoConfig, ScaleMethod, SolverChoice};
 use crate::frames::body_from_camera;
 use crate::output::{FrameInput, VoOutput, VoStatus};
 use crate::scale;
+use crate::spin::SpinFit;
 use crate::tracks::{FeatureTracks, TrackError};
 use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::two_view::{EssentialSolver, MotionModel, TwoViewConfig, TwoViewEstimator};
@@ -89,10 +91,15 @@ pub struct JumperVo {
     launch_t_s: f64,
     launch_world_from_body: Isometry3<f64>,
     fit: BallisticFit,
+    /// The flight's attitude model (used when `attitude_from_spin_fit`).
+    spin: SpinFit,
     keyframe: Keyframe,
     /// The hop's recent keyframes, where cloud tracks were born.
     history: KeyframeHistory,
     last_world_from_body: Isometry3<f64>,
+    /// The last accepted vision attitude (body), on the current keyframe's base: the angular
+    /// rate check compares vision with vision, never with the spin fit's output.
+    last_vision_body_rotation: Option<UnitQuaternion<f64>>,
     last_tau_s: f64,
     /// World-frame angular velocity (rotation vector per second).
     angular_velocity_radps: Vector3<f64>,
@@ -194,6 +201,8 @@ impl JumperVo {
                 initial_world_from_body.translation.vector.into(),
                 config.gravity_mps2,
             ),
+            spin: SpinFit::new(UnitQuaternion::identity(), Vector3::zeros(), 0.0),
+            last_vision_body_rotation: None,
             keyframe: Keyframe {
                 world_from_cam: initial_world_from_body * body_from_camera,
                 tau_s: 0.0,
@@ -236,6 +245,7 @@ impl JumperVo {
         self.commanded_velocity_mps = Vector3::zeros();
         self.launch_world_from_body = world_from_body;
         self.last_world_from_body = world_from_body;
+        self.last_vision_body_rotation = None;
         self.fit = BallisticFit::new(
             world_from_body.translation.vector.into(),
             self.config.gravity_mps2,
@@ -253,6 +263,11 @@ impl JumperVo {
         }
         let [wx, wy, wz] = self.config.launch_angular_velocity_body_radps;
         self.angular_velocity_radps = world_from_body.rotation * Vector3::new(wx, wy, wz);
+        self.spin = SpinFit::new(
+            world_from_body.rotation,
+            self.angular_velocity_radps,
+            self.config.launch_angular_velocity_sigma_radps,
+        );
         self.tracks.reset();
     }
 
@@ -414,6 +429,7 @@ impl JumperVo {
             * self.launch_world_from_body.rotation;
         let pose = Isometry3::from_parts(Translation3::from(position), rotation);
         self.last_world_from_body = pose;
+        self.last_vision_body_rotation = Some(rotation);
         let altitude = input.altimeter_m.filter(|z| z.is_finite());
         if let Some(z) = altitude {
             self.fit
@@ -476,18 +492,26 @@ impl JumperVo {
         for &i in inliers {
             self.keep[i] = true;
         }
-        let world_from_cam = Isometry3::from_parts(
-            Translation3::identity(),
-            self.keyframe.world_from_cam.rotation * rel.rotation.inverse(),
-        );
-        let body_rotation = world_from_cam.rotation * self.body_from_camera.rotation.inverse();
+        let vision_cam_rotation = self.keyframe.world_from_cam.rotation * rel.rotation.inverse();
+        let vision_body_rotation = vision_cam_rotation * self.body_from_camera.rotation.inverse();
         let dt_last_s = (tau - self.last_tau_s).max(1e-3);
-        let rate_radps = body_rotation.angle_to(&self.last_world_from_body.rotation) / dt_last_s;
+        let last_rotation = self
+            .last_vision_body_rotation
+            .unwrap_or(self.last_world_from_body.rotation);
+        let rate_radps = vision_body_rotation.angle_to(&last_rotation) / dt_last_s;
         if rate_radps.is_nan() || rate_radps > self.config.max_angular_rate_radps {
             // Torque-free flight keeps its angular rate: a jump is a wrong two-view solution
             // (planar twofold ambiguity) or an impact, never motion to integrate.
             return None;
         }
+        // The world-frame rotation since the keyframe, as vision measured it.
+        let rotation_since_keyframe =
+            vision_cam_rotation * self.keyframe.world_from_cam.rotation.inverse();
+        let body_rotation = if self.config.attitude_from_spin_fit {
+            self.spin.attitude_at(tau)
+        } else {
+            vision_body_rotation
+        };
         let lever_kf = self.lever_world(
             &(self.keyframe.world_from_cam.rotation * self.body_from_camera.rotation.inverse()),
         );
@@ -556,6 +580,8 @@ impl JumperVo {
             median_parallax_rad,
             scale_m,
             keyframe_center_m,
+            rotation_since_keyframe,
+            vision_body_rotation,
         })
     }
 
@@ -601,13 +627,28 @@ impl JumperVo {
     }
 
     fn finish(&mut self, est: Estimate, input: &FrameInput<'_>, tau: f64) -> VoOutput {
-        let pose = est.world_from_body;
-        let world_from_cam = pose * self.body_from_camera;
+        let mut pose = est.world_from_body;
+        self.last_vision_body_rotation = Some(est.vision_body_rotation);
         let make_keyframe = est.median_parallax_rad
             >= self.config.keyframe_max_parallax_deg.to_radians()
             || est.inliers < self.config.keyframe_min_tracks
             || (est.inliers as f64)
                 < self.config.keyframe_min_track_fraction * self.tracks.keyframe_count() as f64;
+        if make_keyframe && self.config.attitude_from_spin_fit {
+            // One row per keyframe interval: the frames in between measure the same interval
+            // again, with the same keyframe's error.
+            self.spin.add_increment(
+                tau - self.keyframe.tau_s,
+                &est.rotation_since_keyframe,
+                self.config.keyframe_rotation_sigma_rad,
+            );
+            pose.rotation = self.spin.attitude_at(tau);
+            self.keyframe.world_from_cam.rotation =
+                self.spin.attitude_at(self.keyframe.tau_s) * self.body_from_camera.rotation;
+            // The next keyframe's base is the fitted attitude.
+            self.last_vision_body_rotation = Some(pose.rotation);
+        }
+        let world_from_cam = pose * self.body_from_camera;
         let mut cloud = None;
         let mut cloud_world_from_camera = None;
         if make_keyframe && self.config.publish_cloud && est.scale_m.is_some() {
@@ -666,10 +707,15 @@ impl JumperVo {
         altitude: Option<f64>,
     ) -> VoOutput {
         let dt = tau - self.last_tau_s;
-        let rotation = UnitQuaternion::from_scaled_axis(self.angular_velocity_radps * dt)
-            * self.last_world_from_body.rotation;
+        let rotation = if self.config.attitude_from_spin_fit {
+            self.spin.attitude_at(tau)
+        } else {
+            UnitQuaternion::from_scaled_axis(self.angular_velocity_radps * dt)
+                * self.last_world_from_body.rotation
+        };
         let position = self.propagated_position(tau);
         let pose = Isometry3::from_parts(Translation3::from(position), rotation);
+        self.last_vision_body_rotation = Some(rotation);
         // Restart tracking from this frame.
         self.tracks.retain(&[]);
         let features = self.tracks.set_keyframe().unwrap_or(0);
@@ -711,4 +757,8 @@ struct Estimate {
     /// Keyframe camera centre the position was measured from along the vision direction,
     /// world frame, metres (the ballistic fit re-anchors it; the cloud must use the same one).
     keyframe_center_m: Vector3<f64>,
+    /// World-frame rotation from the keyframe to this frame, as vision measured it.
+    rotation_since_keyframe: UnitQuaternion<f64>,
+    /// This frame's attitude (body) as vision measured it on the keyframe's base.
+    vision_body_rotation: UnitQuaternion<f64>,
 }

@@ -65,6 +65,29 @@ fn rendered_hop_is_tracked_with_both_scale_methods() {
     }));
 }
 
+/// Nothing but gravity acts on the body in flight: one angular rate fitted to the keyframe
+/// rotations, anchored at the launch attitude, keeps the attitude from drifting as the chained
+/// keyframe rotations do (and with it the translation directions, and the hop's length).
+#[test]
+fn the_spin_fit_holds_the_attitude_closer_than_chained_keyframe_rotations() {
+    let sim = small_sim(50, Vec::new());
+    let report = |config: &JumperVoConfig| {
+        let run = run_hop(&sim, config).unwrap();
+        evaluate(&run.outputs, &sim.truth_world_from_body).unwrap()
+    };
+    let fitted = report(&JumperVoConfig {
+        attitude_from_spin_fit: true,
+        ..JumperVoConfig::default()
+    });
+    let chained = report(&JumperVoConfig::default());
+    println!("spin fit: {fitted}\nchained: {chained}");
+    assert!(
+        fitted.max_rotation_error_rad < chained.max_rotation_error_rad,
+        "spin fit {fitted} against chained {chained}"
+    );
+    assert!(fitted.ate_se3_m < 0.6, "{fitted}");
+}
+
 #[test]
 fn black_frames_mid_flight_do_not_diverge() {
     let sim = small_sim(30, (12..16).collect());

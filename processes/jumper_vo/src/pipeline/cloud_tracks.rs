@@ -73,7 +73,12 @@ impl JumperVo {
             return None;
         }
         let record = self.history.get(serial, self.launch_t_s)?;
-        let rotation = record.rotation();
+        // The birth keyframe's attitude as the flight's latest fit has it.
+        let rotation = if self.config.attitude_from_spin_fit {
+            self.spin.attitude_at(record.tau_s) * self.body_from_camera.rotation
+        } else {
+            record.rotation()
+        };
         let centre_m = match self.config.scale_method {
             ScaleMethod::Ballistic => {
                 let lever =

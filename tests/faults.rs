@@ -12,6 +12,27 @@ fn fault<'a>(report: &'a serde_json::Value, spec: &str) -> &'a serde_json::Value
         .unwrap_or_else(|| panic!("no fault {spec} in {report:#}"))
 }
 
+/// A lockstep launch of the probe graph under tight supervision with one fault: the run id,
+/// the output and the report.
+fn launch_strict(
+    name: &str,
+    frames: &str,
+    fault: &str,
+) -> (String, std::process::Output, serde_json::Value) {
+    let (out, run) = (out_dir(name), run_id(name));
+    let config = format!(
+        "{}/tests/fixtures/config/valid/strict_supervision.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let output = launch(
+        &out,
+        &run,
+        &[&config, "--lockstep", "--frames", frames, "--fault", fault],
+    );
+    let report = report(&out, &run);
+    (run, output, report)
+}
+
 #[test]
 fn every_fault_kind_is_executed_recorded_and_survived() {
     let (out, run) = (out_dir("faults"), run_id("faults"));
@@ -76,24 +97,7 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
 
 #[test]
 fn a_stall_beyond_the_watchdog_is_a_hang_and_is_restarted() {
-    let (out, run) = (out_dir("fault-hang"), run_id("fault-hang"));
-    let config = format!(
-        "{}/tests/fixtures/config/valid/strict_supervision.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let output = launch(
-        &out,
-        &run,
-        &[
-            &config,
-            "--lockstep",
-            "--frames",
-            "40",
-            "--fault",
-            "stall:probe_sink@f10+30s",
-        ],
-    );
-    let report = report(&out, &run);
+    let (run, output, report) = launch_strict("fault-hang", "40", "stall:probe_sink@f10+30s");
     assert!(output.status.success(), "{report:#}");
     let stall = fault(&report, "stall:probe_sink@f10+30s");
     assert!(
@@ -111,6 +115,24 @@ fn a_stall_beyond_the_watchdog_is_a_hang_and_is_restarted() {
         "{reason}"
     );
     assert_eq!(report["leftover_files"], 0);
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+}
+
+#[test]
+fn a_step_asleep_beyond_the_watchdog_is_a_hang() {
+    // Every step sleeps 400 ms: silent past the stall limit (1.5 periods) without running.
+    // The first kill must name sleep, not the longer limit for busy processes; with one
+    // restart allowed, the second kill stops the launch.
+    let (run, output, report) = launch_strict("fault-asleep", "20", "delay:probe_sink@400ms");
+    let sink = process(&report, "probe_sink");
+    assert!(sink["hangs_detected"].as_u64() >= Some(1), "{report:#}");
+    let reason = sink["exits"][0]["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("hung (asleep without using CPU, no heartbeat for"),
+        "{reason}"
+    );
+    assert_ne!(output.status.code(), Some(2), "{report:#}");
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }
 
 #[test]

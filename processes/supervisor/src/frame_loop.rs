@@ -231,7 +231,7 @@ impl FrameLoop {
             since: Instant::now(),
         };
         slot.last_heartbeat = Instant::now();
-        slot.silence_cpu_ticks = None;
+        slot.silence_cpu_time_ns = None;
     }
 
     /// Starts a warm standby for `slot_index` if it may have one and has none.
@@ -757,18 +757,18 @@ impl FrameLoop {
                 )),
                 Phase::Running if silence > period => {
                     let progress = ProgressSample::read(pid);
-                    let (baseline_cpu_ticks, seen_at) = *slot
-                        .silence_cpu_ticks
-                        .get_or_insert((progress.map_or(0, |sample| sample.cpu_ticks), now));
+                    let (baseline_cpu_time_ns, seen_at) = *slot
+                        .silence_cpu_time_ns
+                        .get_or_insert((progress.map_or(0, |sample| sample.cpu_time_ns), now));
                     let silence = Silence {
                         silent_for: silence,
                         watched_for: now.duration_since(seen_at),
-                        baseline_cpu_ticks,
+                        baseline_cpu_time_ns,
                     };
                     hang_verdict(&limits, &silence, progress)
                 }
                 _ => {
-                    slot.silence_cpu_ticks = None;
+                    slot.silence_cpu_time_ns = None;
                     None
                 }
             };

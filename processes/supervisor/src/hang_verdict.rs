@@ -37,10 +37,10 @@ impl SilenceLimits {
 pub(crate) struct Silence {
     /// Since its last heartbeat.
     pub silent_for: Duration,
-    /// Since the watchdog took `baseline_cpu_ticks`.
+    /// Since the watchdog took `baseline_cpu_time_ns`.
     pub watched_for: Duration,
     /// Its CPU time when the watchdog first saw it silent for more than a period.
-    pub baseline_cpu_ticks: u64,
+    pub baseline_cpu_time_ns: u64,
 }
 
 /// Why the process counts as hung, or `None` while it may still be only slow.
@@ -63,7 +63,7 @@ pub(crate) fn hang_verdict(
             if past_stall
                 && silence.watched_for >= limits.asleep_span()
                 && !sample.busy
-                && sample.cpu_ticks == silence.baseline_cpu_ticks =>
+                && sample.cpu_time_ns == silence.baseline_cpu_time_ns =>
         {
             Some(format!(
                 "asleep without using CPU, no heartbeat for {frames:.1} frame periods"
@@ -87,11 +87,11 @@ mod tests {
         Duration::from_millis(v)
     }
 
-    fn asleep(cpu_ticks: u64) -> Option<ProgressSample> {
+    fn asleep(cpu_time_ns: u64) -> Option<ProgressSample> {
         Some(ProgressSample {
             stopped: false,
             busy: false,
-            cpu_ticks,
+            cpu_time_ns,
         })
     }
 
@@ -99,7 +99,7 @@ mod tests {
         Silence {
             silent_for: ms(silent_ms),
             watched_for: ms(watched_ms),
-            baseline_cpu_ticks: 7,
+            baseline_cpu_time_ns: 7,
         }
     }
 
@@ -123,7 +123,7 @@ mod tests {
         let runnable = Some(ProgressSample {
             stopped: false,
             busy: true,
-            cpu_ticks: 7,
+            cpu_time_ns: 7,
         });
         assert_eq!(hang_verdict(&LIMITS, &silence(180, 80), runnable), None);
     }
@@ -133,14 +133,14 @@ mod tests {
         let stopped = Some(ProgressSample {
             stopped: true,
             busy: false,
-            cpu_ticks: 7,
+            cpu_time_ns: 7,
         });
         let why = hang_verdict(&LIMITS, &silence(160, 0), stopped).expect("hung");
         assert!(why.starts_with("stopped"), "{why}");
         let busy = Some(ProgressSample {
             stopped: false,
             busy: true,
-            cpu_ticks: 900,
+            cpu_time_ns: 900,
         });
         let why = hang_verdict(&LIMITS, &silence(2100, 0), busy).expect("hung");
         assert!(why.contains("heartbeat_timeout_frames = 20"), "{why}");

@@ -66,7 +66,7 @@ pub struct Slot {
     pub standby_failed: bool,
     /// CPU time of the current child when the watchdog first saw its silence pass one frame
     /// period, and when it saw it.
-    pub silence_cpu_ticks: Option<(u64, Instant)>,
+    pub silence_cpu_time_ns: Option<(u64, Instant)>,
     /// Start-up time the current incarnation reported in its ready heartbeat, s.
     pub last_startup_s: Option<f64>,
 }
@@ -97,7 +97,7 @@ impl Slot {
             killed_for_hang: None,
             standby: None,
             standby_failed: false,
-            silence_cpu_ticks: None,
+            silence_cpu_time_ns: None,
             last_startup_s: None,
         }
     }

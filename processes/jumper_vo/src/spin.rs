@@ -12,10 +12,14 @@
 //! the prior, independent keyframe rotations give back the chain exactly: `ω̂ τ` is their sum.)
 //!
 //! The commanded spin is a strong prior (σ 0.003 rad/s by default: as strong as some 30
-//! keyframe rotations), so a launch that a rock set spinning otherwise keeps much of the
-//! commanded rate; a weaker prior (`launch_angular_velocity_sigma_radps`) lets the
-//! measurements decide sooner. Dropping the prior when the measurements disagree with it was
-//! tried: single wrong keyframe rotations (the impact) then threw it away on nominal hops.
+//! keyframe rotations). A launch that a rock turned spins otherwise, often by 0.05–0.15 rad/s,
+//! and holding the commanded rate then tilts the attitude by 15–40° over the flight (hops of
+//! 20 m came out 6–7 m off in boulder-field missions). So the prior is doubted: once
+//! [`MIN_ROWS_TO_DOUBT`] rotations are measured, if the component-wise median of their rates
+//! lies more than [`PRIOR_DOUBT_RADPS`] from the command, the prior is dropped and the rate is
+//! the least-squares fit of the rows near that median. The median, not the mean, decides, and
+//! rows far from it are left out either way: a single wrong rotation (the impact) must neither
+//! throw the prior away on a nominal hop nor tilt the fit.
 //!
 //! ```
 //! use hopnav_jumper_vo::spin::SpinFit;
@@ -30,17 +34,48 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Normal equations of the constant-rate fit (isotropic weights: a scalar normal matrix), the
-/// measurements' apart from the prior's.
+/// Rotations measured before the commanded spin can be doubted.
+pub const MIN_ROWS_TO_DOUBT: usize = 4;
+
+/// The measured rates' median must lie this far from the commanded spin to drop it, rad/s
+/// (any axis). A nominal hop's keyframe rates scatter by about 0.017 rad/s each (0.005 rad
+/// over 0.3 s), so their median over 4 or more stays well within this.
+pub const PRIOR_DOUBT_RADPS: f64 = 0.03;
+
+/// Rows kept per flight (a hop has about 20 keyframes); later rows are ignored.
+const MAX_ROWS: usize = 64;
+
+/// One measured keyframe interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RateRow {
+    dtau_s: f64,
+    rotation_rad: Vector3<f64>,
+    weight: f64,
+}
+
+impl RateRow {
+    fn rate_radps(&self) -> Vector3<f64> {
+        self.rotation_rad / self.dtau_s
+    }
+
+    /// σ of this row's rate, rad/s.
+    fn rate_sigma_radps(&self) -> f64 {
+        1.0 / (self.weight.sqrt() * self.dtau_s)
+    }
+}
+
+/// The constant-rate fit (isotropic weights: scalar normal equations) over the measured rows,
+/// with the commanded spin as a prior while the rows' median agrees with it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpinFit {
     launch_rotation: UnitQuaternion<f64>,
     prior_radps: Vector3<f64>,
     /// Weight of the prior (0: none).
     prior_weight: f64,
-    normal: f64,
-    rhs: Vector3<f64>,
-    increments: usize,
+    rows: Vec<RateRow>,
+    /// The fitted rate, recomputed when a row comes.
+    rate_radps: Vector3<f64>,
+    prior_doubted: bool,
 }
 
 impl SpinFit {
@@ -66,9 +101,9 @@ impl SpinFit {
             launch_rotation,
             prior_radps,
             prior_weight,
-            normal: 0.0,
-            rhs: Vector3::zeros(),
-            increments: 0,
+            rows: Vec::with_capacity(MAX_ROWS),
+            rate_radps: prior_radps,
+            prior_doubted: false,
         }
     }
 
@@ -84,25 +119,78 @@ impl SpinFit {
         {
             return;
         }
-        let weight = sigma_rad.powi(-2);
-        self.normal += weight * dtau_s * dtau_s;
-        self.rhs += measured_rad * (weight * dtau_s);
-        self.increments += 1;
+        if self.rows.len() >= MAX_ROWS {
+            return;
+        }
+        self.rows.push(RateRow {
+            dtau_s,
+            rotation_rad: measured_rad,
+            weight: sigma_rad.powi(-2),
+        });
+        self.refit();
     }
 
     /// Rotations measured so far.
     pub fn increments(&self) -> usize {
-        self.increments
+        self.rows.len()
+    }
+
+    /// The measured rates disagree with the commanded spin: it no longer counts.
+    pub fn prior_doubted(&self) -> bool {
+        self.prior_doubted
     }
 
     /// Fitted world-frame angular velocity, rad/s (the commanded one until anything is known).
     pub fn rate_radps(&self) -> Vector3<f64> {
-        let normal = self.normal + self.prior_weight;
-        if normal > 0.0 {
-            (self.rhs + self.prior_radps * self.prior_weight) / normal
+        self.rate_radps
+    }
+
+    fn refit(&mut self) {
+        let median = self.median_rate_radps();
+        self.prior_doubted = self.rows.len() >= MIN_ROWS_TO_DOUBT
+            && (median - self.prior_radps).amax() > PRIOR_DOUBT_RADPS;
+        let (mut normal, mut rhs) = if self.prior_doubted {
+            (0.0, Vector3::zeros())
+        } else {
+            (self.prior_weight, self.prior_radps * self.prior_weight)
+        };
+        for row in &self.rows {
+            // A row far from the others' median (the impact: a wrong rotation of a few tenths
+            // of a radian) is left out; with the prior kept it would still tilt the fit.
+            let near_median = (row.rate_radps() - median).amax()
+                <= (3.0 * row.rate_sigma_radps()).max(PRIOR_DOUBT_RADPS);
+            if !near_median {
+                continue;
+            }
+            normal += row.weight * row.dtau_s * row.dtau_s;
+            rhs += row.rotation_rad * (row.weight * row.dtau_s);
+        }
+        self.rate_radps = if normal > 0.0 {
+            rhs / normal
+        } else if self.prior_doubted {
+            median
         } else {
             self.prior_radps
+        };
+    }
+
+    /// Component-wise median of the rows' rates (the prior without rows).
+    fn median_rate_radps(&self) -> Vector3<f64> {
+        if self.rows.is_empty() {
+            return self.prior_radps;
         }
+        let mut values = Vec::with_capacity(self.rows.len());
+        Vector3::from_fn(|axis, _| {
+            values.clear();
+            values.extend(self.rows.iter().map(|row| row.rate_radps()[axis]));
+            values.sort_by(f64::total_cmp);
+            let mid = values.len() / 2;
+            if values.len() % 2 == 0 {
+                0.5 * (values[mid - 1] + values[mid])
+            } else {
+                values[mid]
+            }
+        })
     }
 
     /// Attitude (world from body) `tau_s` after the launch.
@@ -174,6 +262,49 @@ mod tests {
         }
         assert!(
             (fit.rate_radps() - actual).norm() < 0.1,
+            "{:?}",
+            fit.rate_radps()
+        );
+    }
+
+    #[test]
+    fn a_launch_spinning_otherwise_drops_the_prior_after_a_few_rotations() {
+        // A rock turned the launch: it spins 0.1 rad/s off the command, about one keyframe
+        // rate sigma; the default prior would hold the command through a whole hop.
+        let commanded = Vector3::new(0.0, 0.1, 0.0);
+        let actual = Vector3::new(0.08, 0.02, -0.05);
+        let mut fit = SpinFit::new(UnitQuaternion::identity(), commanded, 0.003);
+        let mut rng = NoiseRng::new(11);
+        for row in 0..15 {
+            fit.add_increment(0.3, &noisy_increment(actual, 0.3, 0.005, &mut rng), 0.005);
+            assert_eq!(
+                fit.prior_doubted(),
+                row + 1 >= MIN_ROWS_TO_DOUBT,
+                "row {row}"
+            );
+        }
+        let error = (fit.rate_radps() - actual).norm();
+        assert!(error < 0.01, "{:?} against {actual:?}", fit.rate_radps());
+    }
+
+    #[test]
+    fn one_wrong_rotation_does_not_throw_the_prior_away() {
+        let commanded = Vector3::new(0.0, 0.1, 0.0);
+        let mut fit = SpinFit::new(UnitQuaternion::identity(), commanded, 0.003);
+        let mut rng = NoiseRng::new(5);
+        for row in 0..10 {
+            let increment = if row == 6 {
+                // The impact: half a radian in one interval.
+                UnitQuaternion::from_scaled_axis(Vector3::new(0.5, 0.0, 0.2))
+            } else {
+                noisy_increment(commanded, 0.3, 0.005, &mut rng)
+            };
+            fit.add_increment(0.3, &increment, 0.005);
+        }
+        assert!(!fit.prior_doubted());
+        // Nor does it pull the fit: 0.04 rad/s (11° over a hop) if it were kept.
+        assert!(
+            (fit.rate_radps() - commanded).norm() < 0.01,
             "{:?}",
             fit.rate_radps()
         );

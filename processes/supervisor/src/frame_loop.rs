@@ -17,11 +17,12 @@ use iceoryx2::prelude::{CallbackProgression, WaitSet};
 use iceoryx2::waitset::WaitSetRunResult;
 
 use crate::LaunchError;
-use crate::child::{ChildProcess, ChildSpec, ProgressSample};
+use crate::child::{ChildProcess, ChildSpec};
 use crate::fault_injector::{FaultAction, FaultInjector};
 use crate::hang_verdict::{Silence, SilenceLimits, hang_verdict};
 use crate::janitor::Janitor;
 use crate::mission::MissionObserver;
+use crate::progress::ProgressSample;
 use crate::relay::SlotRelays;
 use crate::report::ExitRecord;
 use crate::restart::RestartDecision;

@@ -7,7 +7,7 @@
 //! itself ran late on a loaded machine first sees a long silence and takes its baseline then,
 //! and the children, late as it was, must get the time to run and heartbeat.
 
-use crate::child::ProgressSample;
+use crate::progress::ProgressSample;
 use std::time::Duration;
 
 /// The watchdog's limits, from `[watchdog]` and the frame period.

@@ -18,6 +18,7 @@ mod launch;
 pub mod map_accuracy;
 pub mod mission;
 pub mod mission_report;
+mod progress;
 pub mod relay;
 pub mod report;
 pub mod restart;

@@ -42,6 +42,14 @@ fn the_default_cooperative_mission_reaches_the_goal() {
         best_m >= straight_m - 1e-6 && best_m < 1.5 * straight_m,
         "{mission}"
     );
+    // The built map's path: planned on the final map, so the goal it reached is reachable.
+    let built_m = mission["built_map_path_m"]
+        .as_f64()
+        .expect("built-map path");
+    assert!(
+        built_m >= straight_m - 1e-6 && built_m < 1.5 * straight_m,
+        "{mission}"
+    );
     // Every process of the graph ran every frame.
     for name in [
         "physics",

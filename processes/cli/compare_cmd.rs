@@ -251,13 +251,14 @@ fn print_table(rows: &[CompareRow]) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
         out,
-        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7} {:>6} {:>10}",
+        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7} {:>6} {:>10}",
         "seed",
         "k",
         "mode",
         "reached",
         "path m",
         "best m",
+        "built m",
         "replans",
         "routes",
         "expansions",
@@ -270,13 +271,14 @@ fn print_table(rows: &[CompareRow]) {
             Some(mission) => {
                 let _ = writeln!(
                     out,
-                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>8} {:>7} {:>11} {:>7.1} {:>6} {:>10}",
+                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7.1} {:>6} {:>10}",
                     row.seed,
                     row.golombek_k,
                     row.mode,
                     if mission.goal_reached { "yes" } else { "no" },
                     mission.executed_path_m,
                     fmt_opt(mission.full_knowledge_path_m),
+                    fmt_opt(mission.built_map_path_m),
                     mission.replans,
                     mission.route_changes,
                     mission.node_expansions,
@@ -365,6 +367,23 @@ fn print_table(rows: &[CompareRow]) {
                 100.0 * (1.0 - best_m / rover_m.max(1e-9))
             );
         }
+        // Where the excess over the full-knowledge path comes from, per mode: the map's errors
+        // (its built-map path against full knowledge) or learning it on the way (the drive
+        // against the built-map path, what an earlier scout can win back).
+        let built = paired_means(|m| m.built_map_path_m.unwrap_or(f64::NAN));
+        if let (Some(best_m), Some((cooperative_built_m, rover_built_m))) = (best_m, built)
+            && cooperative_built_m.is_finite()
+            && rover_built_m.is_finite()
+        {
+            let _ = writeln!(
+                out,
+                "  built-map path (the final map known from the start): rover-only {rover_built_m:.1} m, cooperative {cooperative_built_m:.1} m; map errors cost rover-only {:+.1} m, cooperative {:+.1} m; learning the map on the way cost rover-only {:+.1} m, cooperative {:+.1} m",
+                rover_built_m - best_m,
+                cooperative_built_m - best_m,
+                rover_m - rover_built_m,
+                cooperative_m - cooperative_built_m
+            );
+        }
     } else {
         let _ = writeln!(
             out,
@@ -379,12 +398,12 @@ fn fmt_opt(value: Option<f64>) -> String {
 
 fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
     let mut csv = String::from(
-        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,replans,route_changes,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
+        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,built_map_path_m,replans,route_changes,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
     );
     for row in rows {
         let mission = row.mission.as_ref();
         csv.push_str(&format!(
-            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             row.seed,
             row.golombek_k,
             row.mode,
@@ -393,6 +412,9 @@ fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
             mission.map_or(String::new(), |m| format!("{:.3}", m.executed_path_m)),
             mission
                 .and_then(|m| m.full_knowledge_path_m)
+                .map_or(String::new(), |m| format!("{m:.3}")),
+            mission
+                .and_then(|m| m.built_map_path_m)
                 .map_or(String::new(), |m| format!("{m:.3}")),
             mission.map_or(String::new(), |m| m.replans.to_string()),
             mission.map_or(String::new(), |m| m.route_changes.to_string()),

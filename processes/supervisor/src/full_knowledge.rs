@@ -9,6 +9,9 @@
 //! as the navigator does, they are planned through at its doubtful-obstacle cost. A* plans
 //! on it with the planner's costs; the length is that of the cell path pulled taut (a
 //! straight segment wherever every cell it crosses is traversable), as pure pursuit drives.
+//!
+//! [`plan_on_known_map`] is that planning step on any map known in full; the mission report
+//! also runs it on the map the robots built (see `MissionReport::built_map_path_m`).
 
 use hopnav_mapper::inflation::KernelEntry;
 use hopnav_planner::astar::astar;
@@ -36,7 +39,7 @@ pub fn full_knowledge_path(
     start_m: [f64; 2],
     goal_m: [f64; 2],
 ) -> Option<FullKnowledgePath> {
-    let mut grid = Grid::new(
+    let grid = Grid::new(
         geometry.width_cells(),
         geometry.height_cells(),
         CellState::Free,
@@ -60,25 +63,73 @@ pub fn full_knowledge_path(
             extra_cost[index] = extra_cost[index].max(entry.cost);
         }
     }
+    let known: Vec<KnownCell> = (0..grid.cell_count())
+        .map(|index| {
+            if rock[index] {
+                KnownCell::Obstacle
+            } else if lethal[index] {
+                KnownCell::Doubtful
+            } else {
+                KnownCell::Free {
+                    extra_cost: extra_cost[index],
+                }
+            }
+        })
+        .collect();
+    plan_on_known_map(&known, geometry, start_m, goal_m)
+}
+
+/// One cell of a map known in full, for [`plan_on_known_map`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KnownCell {
+    /// Never driven through.
+    Obstacle,
+    /// An obstacle unless such cells alone cut A off B: then, as the navigator does, planned
+    /// through at its doubtful-obstacle cost (a lethal margin, a rock the rover never saw).
+    Doubtful,
+    /// Traversable at this extra cost per move into it (planner units).
+    Free {
+        /// See [`KnownCell::Free`].
+        extra_cost: u32,
+    },
+}
+
+/// Plans from `start_m` to `goal_m` with A* and the planner's costs on `cells` (row-major,
+/// `geometry`'s size) and pulls the path taut. A and B stay open, as the navigator keeps
+/// them. `None` when A or B lies outside the grid, the cell count does not match, or no path
+/// exists even through the doubtful cells.
+pub fn plan_on_known_map(
+    cells: &[KnownCell],
+    geometry: &MapGeometry,
+    start_m: [f64; 2],
+    goal_m: [f64; 2],
+) -> Option<FullKnowledgePath> {
+    let mut grid = Grid::new(
+        geometry.width_cells(),
+        geometry.height_cells(),
+        CellState::Free,
+    )
+    .ok()?;
+    if cells.len() != grid.cell_count() {
+        return None;
+    }
     let goal = geometry.cell_of(goal_m)?;
     let start = geometry.cell_of(start_m)?;
     let mut obstacle_cells = 0;
     let mut plan = None;
-    for lethal_is_obstacle in [true, false] {
+    for doubtful_is_obstacle in [true, false] {
         obstacle_cells = 0;
-        for index in 0..grid.cell_count() {
+        for (index, known) in cells.iter().enumerate() {
             let cell = grid.cell_at(index)?;
-            // A and B stay open, as the navigator keeps them (the scenario clears rocks there).
-            let open = cell == start || cell == goal;
-            if !open && (rock[index] || (lethal_is_obstacle && lethal[index])) {
-                obstacle_cells += 1;
-                grid.set(cell, CellState::Obstacle, 0).ok()?;
-            } else if !open && lethal[index] {
-                grid.set(cell, CellState::Free, DOUBTFUL_OBSTACLE_COST)
-                    .ok()?;
-            } else {
-                grid.set(cell, CellState::Free, extra_cost[index]).ok()?;
-            }
+            let (state, extra_cost) = match known {
+                _ if cell == start || cell == goal => (CellState::Free, 0),
+                KnownCell::Obstacle => (CellState::Obstacle, 0),
+                KnownCell::Doubtful if doubtful_is_obstacle => (CellState::Obstacle, 0),
+                KnownCell::Doubtful => (CellState::Free, DOUBTFUL_OBSTACLE_COST),
+                KnownCell::Free { extra_cost } => (CellState::Free, *extra_cost),
+            };
+            obstacle_cells += usize::from(state == CellState::Obstacle);
+            grid.set(cell, state, extra_cost).ok()?;
         }
         plan = astar(&grid, start, goal).ok();
         if plan.is_some() {
@@ -235,5 +286,51 @@ mod tests {
             None,
             "A outside the grid"
         );
+    }
+    #[test]
+    fn a_built_map_is_planned_around_its_obstacles_and_through_doubts_only_when_it_must() {
+        let geometry = geometry();
+        let free = KnownCell::Free { extra_cost: 0 };
+        let wall_at = |x_cell: u32, gap: KnownCell| -> Vec<KnownCell> {
+            (0..40 * 40)
+                .map(|index| match (index % 40, index / 40) {
+                    (x, 20) if x == x_cell => gap,
+                    (x, _) if x == x_cell => KnownCell::Obstacle,
+                    _ => free,
+                })
+                .collect()
+        };
+        // A full-height wall at x = 0 m (column 20) with one free cell in row 20: through it.
+        let open =
+            plan_on_known_map(&wall_at(20, free), &geometry, [-8.0, 0.25], [8.0, 0.25]).unwrap();
+        assert!((open.length_m - 16.0).abs() < 1e-9, "{open:?}");
+        // The same gap as a doubtful cell is still the only way: planned through.
+        let doubt = wall_at(20, KnownCell::Doubtful);
+        let through = plan_on_known_map(&doubt, &geometry, [-8.0, 0.25], [8.0, 0.25]).unwrap();
+        assert!((through.length_m - 16.0).abs() < 1e-9, "{through:?}");
+        // A closed wall has no way; a map of the wrong size is refused.
+        let closed = wall_at(20, KnownCell::Obstacle);
+        assert_eq!(
+            plan_on_known_map(&closed, &geometry, [-8.0, 0.25], [8.0, 0.25]),
+            None
+        );
+        assert_eq!(
+            plan_on_known_map(&closed[1..], &geometry, [-8.0, 0.25], [8.0, 0.25]),
+            None
+        );
+    }
+
+    #[test]
+    fn a_doubtful_cell_is_avoided_while_a_way_round_exists() {
+        let geometry = geometry();
+        // A doubtful block across y from -3 to 3 m at x = 0 m: driven round, not through.
+        let cells: Vec<KnownCell> = (0..40 * 40)
+            .map(|index| match (index % 40, index / 40) {
+                (20, y) if (14..26).contains(&y) => KnownCell::Doubtful,
+                _ => KnownCell::Free { extra_cost: 0 },
+            })
+            .collect();
+        let path = plan_on_known_map(&cells, &geometry, [-8.0, 0.25], [8.0, 0.25]).unwrap();
+        assert!(path.length_m > 2.0 * 8.0f64.hypot(3.0) - 0.5, "{path:?}");
     }
 }

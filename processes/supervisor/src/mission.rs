@@ -13,7 +13,7 @@ use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use hopnav_metrics::map_plot::{MapFigure, MappedCell, MappedClass, Observer, RockOutline, Track};
 use iceoryx2::node::Node;
 
-use crate::full_knowledge::{FullKnowledgePath, full_knowledge_path};
+use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::hop_counter::HopCounter;
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::mission_report::MissionReport;
@@ -29,6 +29,7 @@ const TRACK_STEP_M: f64 = 0.05;
 struct CellView {
     class: CellClass,
     observed_by: u32,
+    extra_cost: u32,
 }
 
 /// Grid placement from the map header.
@@ -163,6 +164,7 @@ impl MissionObserver {
                         CellView {
                             class,
                             observed_by: update.observed_by,
+                            extra_cost: update.extra_cost,
                         },
                     );
                 }
@@ -259,6 +261,7 @@ impl MissionObserver {
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
             inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
+            built_map_path_m: self.built_map_path().map(|path| path.length_m),
             map_accuracy: rocks.and_then(|rocks| self.map_accuracy(rocks)),
             full_knowledge_path_m: rocks
                 .and_then(|rocks| self.full_knowledge_path(rocks))
@@ -299,17 +302,9 @@ impl MissionObserver {
     /// cannot climb.
     fn full_knowledge_path(&self, rocks: &[RockFootprint]) -> Option<FullKnowledgePath> {
         let mapper = self.mapper.as_ref()?;
-        let grid = hopnav_mapper::process::grid_geometry(mapper).ok()?;
-        let geometry = hopnav_planner::mission::MapGeometry::new(
-            grid.origin_x_m,
-            grid.origin_y_m,
-            grid.cell_size_m,
-            grid.width_cells,
-            grid.height_cells,
-        )
-        .ok()?;
+        let geometry = self.map_geometry()?;
         let kernel = hopnav_mapper::inflation::inflation_kernel(
-            grid.cell_size_m,
+            geometry.cell_size_m(),
             mapper.inflation_radius_m,
             mapper.lethal_radius_m,
             mapper.inflation_max_cost,
@@ -322,6 +317,43 @@ impl MissionObserver {
             self.start_m?,
             self.goal_m?,
         )
+    }
+
+    /// The planner's path from A to B had it known from the start the final map, classed as
+    /// the planner classes the mapper's cells (a lethal margin, and a rock only the jumper
+    /// saw, are doubtful obstacles).
+    fn built_map_path(&self) -> Option<FullKnowledgePath> {
+        let geometry = self.map_geometry()?;
+        let width = geometry.width_cells() as usize;
+        let rover_bit = 1u32 << Robot::Rover.code();
+        let mut known =
+            vec![KnownCell::Free { extra_cost: 0 }; width * geometry.height_cells() as usize];
+        for (&(x, y), view) in &self.cells {
+            let Some(slot) = known.get_mut(y as usize * width + x as usize) else {
+                continue;
+            };
+            *slot = match view.class {
+                CellClass::Obstacle if view.observed_by & rover_bit != 0 => KnownCell::Obstacle,
+                CellClass::Obstacle | CellClass::Lethal => KnownCell::Doubtful,
+                CellClass::Unknown | CellClass::Free | CellClass::Inflated => KnownCell::Free {
+                    extra_cost: view.extra_cost,
+                },
+            };
+        }
+        plan_on_known_map(&known, &geometry, self.start_m?, self.goal_m?)
+    }
+
+    /// The mapper's grid, as the planner places it (`None` when the mapper config is invalid).
+    fn map_geometry(&self) -> Option<hopnav_planner::mission::MapGeometry> {
+        let grid = hopnav_mapper::process::grid_geometry(self.mapper.as_ref()?).ok()?;
+        hopnav_planner::mission::MapGeometry::new(
+            grid.origin_x_m,
+            grid.origin_y_m,
+            grid.cell_size_m,
+            grid.width_cells,
+            grid.height_cells,
+        )
+        .ok()
     }
 
     /// The final map's obstacles against the world's rocks; `None` without a map.

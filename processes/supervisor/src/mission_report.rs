@@ -45,6 +45,13 @@ pub struct MissionReport {
     /// metres (evaluation only: the most any scouting could shorten the drive to).
     #[serde(default)]
     pub full_knowledge_path_m: Option<f64>,
+    /// Length of the path the planner would have driven knowing from the start the map the
+    /// robots built by the end (unknown cells free, as planned; the rover's bump marks left
+    /// out), metres. Above `full_knowledge_path_m` by what the map's errors cost (false or
+    /// misplaced obstacles, missed rocks); below `executed_path_m` by what learning the map on
+    /// the way cost, the part a scout that arrives earlier can win back.
+    #[serde(default)]
+    pub built_map_path_m: Option<f64>,
     /// Obstacle cells against the world's rocks (evaluation only).
     pub map_accuracy: Option<crate::map_accuracy::MapAccuracy>,
     /// Each robot's VO against the truth of the same frames (evaluation only).
@@ -105,6 +112,13 @@ impl MissionReport {
             writeln!(
                 out,
                 "full-knowledge path (every rock known from the start): {best_m:.1} m{comparison}"
+            )?;
+        }
+        if let Some(built_m) = self.built_map_path_m {
+            writeln!(
+                out,
+                "built-map path (the final map known from the start): {built_m:.1} m; what was learnt on the way cost {:+.1} m",
+                self.executed_path_m - built_m
             )?;
         }
         for vo in &self.vo {

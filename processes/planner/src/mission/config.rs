@@ -14,6 +14,11 @@ pub struct NavigatorConfig {
     pub lookahead_m: f64,
     /// The rover's stereo camera maps reliably out to this range, metres.
     pub sensing_range_m: f64,
+    /// Extra cost of a move into a cell nobody has mapped, in thousandths of a cell edge (a
+    /// straight move costs 1000). Unknown ground stays traversable (D* Lite's optimism); the
+    /// premium makes the planner prefer ground a robot has seen free, by up to this fraction
+    /// of the path: the jumper's free corridors become routes. 0 plans unknown as free.
+    pub unknown_extra_cost: u32,
     /// The rover counts as stuck when, told to drive, it neither moved `stall_distance_m` nor
     /// turned `stall_yaw_rad` in this long; it then backs off and the cell ahead is marked
     /// as an obstacle (a virtual bumper), seconds.
@@ -52,6 +57,7 @@ impl Default for NavigatorConfig {
             cruise_speed_mps: 0.5,
             lookahead_m: 1.5,
             sensing_range_m: 8.0,
+            unknown_extra_cost: 0,
             stall_time_s: 2.0,
             stall_distance_m: 0.1,
             stall_yaw_rad: 0.1,
@@ -99,7 +105,7 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 17] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 18] = [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
             (
                 "no_progress_time_s",
@@ -162,6 +168,13 @@ impl NavigatorConfig {
                 "0.5..=100",
             ),
             (
+                "unknown_extra_cost",
+                f64::from(self.unknown_extra_cost),
+                0.0,
+                100_000.0,
+                "0..=100000",
+            ),
+            (
                 "scout.hop_range_m",
                 self.scout.hop_range_m,
                 1.0,
@@ -203,5 +216,22 @@ impl NavigatorConfig {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_valid_and_an_out_of_range_value_names_its_key() {
+        let mut config = NavigatorConfig::default();
+        assert_eq!(config.validate(), Ok(()));
+        config.unknown_extra_cost = 200_000;
+        let (key, value, allowed) = config.validate().unwrap_err();
+        assert_eq!(
+            (key.as_str(), value, allowed),
+            ("unknown_extra_cost", 200_000.0, "0..=100000")
+        );
     }
 }

@@ -8,7 +8,7 @@ use super::route_change::route_moved;
 use super::scout::{self, ScoutDecision, distance_m};
 use super::scout_batch::{SCOUT_BATCH_URGENT_AHEAD_M, ScoutBatch};
 use crate::cost::{Cost, MOVES, neighbour, path_cost};
-use crate::grid::{Cell, CellChange, CellState, Grid};
+use crate::grid::{Cell, CellChange, CellState, Grid, GridError};
 use crate::{DStarLite, PlanError};
 
 /// Why navigation could not go on.
@@ -193,6 +193,8 @@ impl Navigator {
             CellState::Unknown,
         )
         .map_err(|error| NavigationError::Plan(PlanError::OutOfBounds(error)))?;
+        let grid = with_unknown_premium(grid, config.unknown_extra_cost)
+            .map_err(|error| NavigationError::Plan(PlanError::OutOfBounds(error)))?;
         let planner = DStarLite::new(grid, start, goal).map_err(NavigationError::Plan)?;
         let bumper = Bumper::new(&config);
         let cell_count = geometry.width_cells() as usize * geometry.height_cells() as usize;
@@ -281,6 +283,15 @@ impl Navigator {
         };
         self.doubtful[index] = doubtful && change.state == CellState::Obstacle;
         let change = self.relax_if_doubtful(change);
+        let change = if change.state == CellState::Unknown {
+            CellChange::new(
+                change.cell,
+                CellState::Unknown,
+                self.config.unknown_extra_cost,
+            )
+        } else {
+            change
+        };
         if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
             bumped.mapper = change;
             return;
@@ -582,8 +593,19 @@ impl Navigator {
         self.path.clear();
     }
 
+    /// The cost of the rest of the path without the unknown premium: ground found free where
+    /// the path expected free ground leaves the path as it was.
     fn remaining_path_cost(&self) -> Option<Cost> {
-        path_cost(self.planner.grid(), &self.path)
+        let grid = self.planner.grid();
+        let unknown_entered = self
+            .path
+            .iter()
+            .skip(1)
+            .filter(|&&cell| grid.state(cell) == Some(CellState::Unknown))
+            .count() as Cost;
+        path_cost(grid, &self.path).map(|cost| {
+            cost.saturating_sub(unknown_entered * Cost::from(self.config.unknown_extra_cost))
+        })
     }
 
     fn hold(&mut self, rover_m: [f64; 2], status: MissionStatus, replanned: bool) -> Decision {
@@ -696,6 +718,21 @@ impl Navigator {
         self.last_request_s = time_s;
         Some(decision)
     }
+}
+
+/// `grid` with `extra_cost` on every unknown cell (see `NavigatorConfig::unknown_extra_cost`).
+fn with_unknown_premium(mut grid: Grid, extra_cost: u32) -> Result<Grid, GridError> {
+    if extra_cost == 0 {
+        return Ok(grid);
+    }
+    for index in 0..grid.cell_count() {
+        if let Some(cell) = grid.cell_at(index)
+            && grid.state(cell) == Some(CellState::Unknown)
+        {
+            grid.set(cell, CellState::Unknown, extra_cost)?;
+        }
+    }
+    Ok(grid)
 }
 
 #[cfg(test)]

@@ -484,3 +484,42 @@ fn a_route_found_after_an_unreachable_spell_counts_as_a_route_change() {
     assert_eq!(decision.status, MissionStatus::Driving);
     assert_eq!(navigator.counters().route_changes, 1);
 }
+
+/// A 20 m × 10 m unknown map, the rover at (2, 5) bound for (18, 5), with a corridor at
+/// y = 8 m reported free from x = 2 m to 18 m (ground the jumper flew over).
+fn navigator_with_a_free_corridor(unknown_extra_cost: u32) -> Navigator {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    config.unknown_extra_cost = unknown_extra_cost;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+    navigator.queue_changes((4..37).map(|x| CellChange::new(Cell::new(x, 16), CellState::Free, 0)));
+    navigator
+}
+
+#[test]
+fn an_unknown_premium_routes_the_rover_along_ground_seen_free() {
+    let on_corridor =
+        |navigator: &Navigator| navigator.path().iter().filter(|cell| cell.y == 16).count();
+    let mut optimist = navigator_with_a_free_corridor(0);
+    optimist.step(at([2.0, 5.0]), None, 0.0).unwrap();
+    assert_eq!(on_corridor(&optimist), 0, "{:?}", optimist.path());
+    // Through the corridor: 6 m of unknown ground plus 16 m seen free, against 16 m of
+    // unknown ground at 1.5x.
+    let mut cautious = navigator_with_a_free_corridor(500);
+    cautious.step(at([2.0, 5.0]), None, 0.0).unwrap();
+    assert!(on_corridor(&cautious) >= 20, "{:?}", cautious.path());
+}
+
+#[test]
+fn ground_found_free_where_the_path_expected_it_is_no_replan() {
+    let geometry = MapGeometry::new(0.0, 0.0, 0.5, 40, 20).unwrap();
+    let truth = Grid::new(40, 20, CellState::Free).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    config.unknown_extra_cost = 500;
+    let mut navigator = Navigator::new(geometry, [2.0, 5.0], [18.0, 5.0], config).unwrap();
+    let (decision, _) = drive(&mut navigator, &truth, [2.0, 5.0], 3.0, 2000);
+    assert_eq!(decision.status, MissionStatus::GoalReached);
+    assert_eq!(navigator.counters().replans, 0);
+}

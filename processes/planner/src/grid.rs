@@ -122,6 +122,16 @@ pub struct Grid {
 impl Grid {
     /// A grid with every cell in `state` and no extra cost.
     pub fn new(width: u32, height: u32, state: CellState) -> Result<Self, GridError> {
+        Self::filled(width, height, state, 0)
+    }
+
+    /// A grid with every cell in `state` at `extra_cost`.
+    pub fn filled(
+        width: u32,
+        height: u32,
+        state: CellState,
+        extra_cost: u32,
+    ) -> Result<Self, GridError> {
         if width == 0 || height == 0 {
             return Err(GridError::Empty { width, height });
         }
@@ -132,13 +142,7 @@ impl Grid {
         Ok(Self {
             width,
             height,
-            cells: vec![
-                CellData {
-                    state,
-                    extra_cost: 0
-                };
-                count
-            ],
+            cells: vec![CellData { state, extra_cost }; count],
         })
     }
 

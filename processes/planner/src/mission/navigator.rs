@@ -8,7 +8,7 @@ use super::route_change::route_moved;
 use super::scout::{self, ScoutDecision, distance_m};
 use super::scout_batch::{SCOUT_BATCH_URGENT_AHEAD_M, ScoutBatch};
 use crate::cost::{Cost, MOVES, neighbour, path_cost};
-use crate::grid::{Cell, CellChange, CellState, Grid, GridError};
+use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
 
 /// Why navigation could not go on.
@@ -187,14 +187,13 @@ impl Navigator {
         };
         let start = cell("start", start_m)?;
         let goal = cell("goal", goal_m)?;
-        let grid = Grid::new(
+        let grid = Grid::filled(
             geometry.width_cells(),
             geometry.height_cells(),
             CellState::Unknown,
+            config.unknown_extra_cost,
         )
         .map_err(|error| NavigationError::Plan(PlanError::OutOfBounds(error)))?;
-        let grid = with_unknown_premium(grid, config.unknown_extra_cost)
-            .map_err(|error| NavigationError::Plan(PlanError::OutOfBounds(error)))?;
         let planner = DStarLite::new(grid, start, goal).map_err(NavigationError::Plan)?;
         let bumper = Bumper::new(&config);
         let cell_count = geometry.width_cells() as usize * geometry.height_cells() as usize;
@@ -597,6 +596,9 @@ impl Navigator {
     /// the path expected free ground leaves the path as it was.
     fn remaining_path_cost(&self) -> Option<Cost> {
         let grid = self.planner.grid();
+        if self.config.unknown_extra_cost == 0 {
+            return path_cost(grid, &self.path);
+        }
         let unknown_entered = self
             .path
             .iter()
@@ -718,21 +720,6 @@ impl Navigator {
         self.last_request_s = time_s;
         Some(decision)
     }
-}
-
-/// `grid` with `extra_cost` on every unknown cell (see `NavigatorConfig::unknown_extra_cost`).
-fn with_unknown_premium(mut grid: Grid, extra_cost: u32) -> Result<Grid, GridError> {
-    if extra_cost == 0 {
-        return Ok(grid);
-    }
-    for index in 0..grid.cell_count() {
-        if let Some(cell) = grid.cell_at(index)
-            && grid.state(cell) == Some(CellState::Unknown)
-        {
-            grid.set(cell, CellState::Unknown, extra_cost)?;
-        }
-    }
-    Ok(grid)
 }
 
 #[cfg(test)]

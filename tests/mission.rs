@@ -90,3 +90,79 @@ fn the_rover_only_baseline_keeps_the_jumper_on_the_ground() {
         "{mission}"
     );
 }
+
+/// `(t, [x, y, z])` of each pose in a TUM trajectory file.
+fn tum_positions(path: &std::path::Path) -> Vec<(f64, [f64; 3])> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines()
+        .filter(|line| !line.starts_with('#'))
+        .map(|line| {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            (v[0], [v[1], v[2], v[3]])
+        })
+        .collect()
+}
+
+/// The jumper VO's position error at the first pose of every hop launched from rest (the
+/// hops after the first), in launch order.
+fn jumper_error_after_each_launch_m(run_dir: &std::path::Path) -> Vec<f64> {
+    let truth = tum_positions(&run_dir.join("vo_jumper_truth.tum"));
+    let estimate = tum_positions(&run_dir.join("vo_jumper_estimate.tum"));
+    assert_eq!(truth.len(), estimate.len());
+    let speed = |a: &(f64, [f64; 3]), b: &(f64, [f64; 3])| {
+        (0..3)
+            .map(|i| (b.1[i] - a.1[i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            / (b.0 - a.0)
+    };
+    (2..truth.len())
+        .filter(|&i| {
+            speed(&truth[i - 2], &truth[i - 1]) < 0.1 && speed(&truth[i - 1], &truth[i]) > 2.0
+        })
+        .map(|i| {
+            assert_eq!(truth[i].0, estimate[i].0);
+            (0..3)
+                .map(|k| (estimate[i].1[k] - truth[i].1[k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect()
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+#[test]
+fn the_relocalization_oracle_starts_every_hop_at_the_true_launch_point() {
+    let oracle_config = format!(
+        "{}/tests/fixtures/config/missions/oracle_relocalization.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut median_error_m = Vec::new();
+    for (name, config) in [("vo", None), ("oracle", Some(oracle_config.as_str()))] {
+        let (out, run) = (
+            out_dir(&format!("mission-{name}")),
+            run_id(&format!("mission-{name}")),
+        );
+        let mut args = vec!["--lockstep", "--frames", "400"];
+        args.extend(config);
+        let output = launch(&out, &run, &args);
+        assert!(output.status.success(), "{:#}", report(&out, &run));
+        let errors_m = jumper_error_after_each_launch_m(&out.join(&run));
+        assert!(
+            errors_m.len() >= 2,
+            "{name}: hops launched from rest: {errors_m:?}"
+        );
+        median_error_m.push(median(errors_m));
+    }
+    // The VO carries its landing error into the next hop; the oracle starts it at the truth
+    // (a hop a rock deflects at launch may still err, hence the median).
+    assert!(median_error_m[0] > 0.2, "VO: {median_error_m:?}");
+    assert!(median_error_m[1] < 0.05, "oracle: {median_error_m:?}");
+}

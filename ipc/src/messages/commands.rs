@@ -64,7 +64,8 @@ pub struct HopLaunch {
     pub launch_time_ns: u64,
     /// 1-based hop number.
     pub hop_index: u32,
-    /// 1 when the launch position is the mission's known start point (first hop).
+    /// 1 when the launch position is known: the mission's start point (first hop), or every
+    /// hop's true launch point with the evaluation oracle `physics.jumper.oracle_launch_position`.
     pub position_known: u32,
 }
 

@@ -146,6 +146,10 @@ pub struct JumperConfig {
     pub landing_linear_damping_per_s: f64,
     /// Angular damping while landing, 1/s.
     pub landing_angular_damping_per_s: f64,
+    /// Evaluation only: tell the jumper VO the true launch point of every hop, not only the
+    /// first. Each hop's VO error then starts at zero: the bound on what relocalizing the
+    /// jumper at rest could give a mission (off in every real mission).
+    pub oracle_launch_position: bool,
 }
 
 impl Default for JumperConfig {
@@ -172,6 +176,7 @@ impl Default for JumperConfig {
             settle_timeout_s: 20.0,
             landing_linear_damping_per_s: 8.0,
             landing_angular_damping_per_s: 12.0,
+            oracle_launch_position: false,
         }
     }
 }

@@ -106,7 +106,8 @@ fn seconds_to_ns(seconds: f64) -> u64 {
 
 impl PhysicsProcess {
     /// Publishes what the jumper commanded when a new hop launched this frame: its launch
-    /// attitude and velocity, and for the first hop the mission's known start point.
+    /// attitude and velocity, and for the first hop the mission's known start point (for
+    /// every hop with `physics.jumper.oracle_launch_position`).
     fn announce_hop(
         &mut self,
         outputs: &crate::FrameOutputs,
@@ -132,11 +133,12 @@ impl PhysicsProcess {
         let (sin_angle, cos_angle) = hop.launch_angle_rad.sin_cos();
         let speed = hop.launch_speed_mps;
         let launch_time_ns = seconds_to_ns(outputs.sim_time_s - hop.flight_time_s);
-        let first_hop = hop.index == 1;
+        // The first hop starts at the mission's known point A; the oracle tells every hop's.
+        let position_known = hop.index == 1 || self.sim.config().jumper.oracle_launch_position;
         self.hop_launches.send_with(|launch| {
             launch.stamp = stamp;
             launch.world_from_body = Pose3 {
-                position_m: if first_hop {
+                position_m: if position_known {
                     hop.launch_position_m
                 } else {
                     [0.0; 3]
@@ -150,7 +152,7 @@ impl PhysicsProcess {
             ];
             launch.launch_time_ns = launch_time_ns;
             launch.hop_index = hop.index;
-            launch.position_known = u32::from(first_hop);
+            launch.position_known = u32::from(position_known);
         })?;
         Ok(())
     }

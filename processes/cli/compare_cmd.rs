@@ -13,6 +13,7 @@ use hopnav_supervisor::mission_report::MissionReport;
 use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 use serde::Serialize;
 
+use crate::compare_verdict::{PairedOutcome, verdict_lines};
 use crate::registry;
 
 #[derive(Debug, Args)]
@@ -339,25 +340,28 @@ fn print_table(rows: &[CompareRow]) {
     let best_m = mean(pairs.iter().filter_map(|(_, r)| r.full_knowledge_path_m));
     let replan_ratio = paired_means(|m| m.replans as f64);
     let route_ratio = paired_means(|m| m.route_changes as f64);
-    let fewer_percent = |(cooperative, rover_only): (f64, f64)| {
-        if rover_only > 0.0 {
-            100.0 * (1.0 - cooperative / rover_only)
-        } else {
-            0.0
+    if let (Some(path_m), Some(replans)) = (path_ratio, replan_ratio) {
+        let (cooperative_m, rover_m) = path_m;
+        let reached = |mode| {
+            of_mode(mode)
+                .filter(|(_, mission)| mission.goal_reached)
+                .count()
+        };
+        let outcome = PairedOutcome {
+            paired_seeds: pairs.len(),
+            seeds_per_mode: rows
+                .iter()
+                .filter(|row| row.mode == MissionMode::RoverOnly.name())
+                .count(),
+            cooperative_reached: reached(MissionMode::Cooperative),
+            rover_only_reached: reached(MissionMode::RoverOnly),
+            path_m,
+            replans,
+            route_changes: route_ratio.unwrap_or((0.0, 0.0)),
+        };
+        for line in verdict_lines(&outcome) {
+            let _ = writeln!(out, "{line}");
         }
-    };
-    if let (Some((cooperative_m, rover_m)), Some(replans)) = (path_ratio, replan_ratio) {
-        let _ = writeln!(
-            out,
-            "paired over {} seeds both reached: cooperative path {:.1}% shorter (target >= 15%), {:.1}% fewer replans (target >= 30%); {} route changes",
-            pairs.len(),
-            100.0 * (1.0 - cooperative_m / rover_m.max(1e-9)),
-            fewer_percent(replans),
-            route_ratio.map_or("-".to_owned(), |routes| format!(
-                "{:.1}% fewer",
-                fewer_percent(routes)
-            ))
-        );
         if let Some(best_m) = best_m {
             let _ = writeln!(
                 out,

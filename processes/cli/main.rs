@@ -4,6 +4,7 @@
 mod bench_cmd;
 mod chaos_cmd;
 mod compare_cmd;
+mod compare_verdict;
 mod eval_cmd;
 mod jumper_clouds_cmd;
 mod launch_cmd;

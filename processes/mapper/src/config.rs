@@ -85,6 +85,10 @@ pub struct MapperConfig {
     /// Frames between two publications of the whole known map on `MAP_SNAPSHOT` (history 1),
     /// so a restarted planner, or one that missed updates, recovers it (0 = never).
     pub republish_every_frames: u32,
+    /// Evaluation only: start with every rock of the world on the map, as a flawless scout
+    /// would have mapped it before the rover moved (see [`crate::oracle_prior`]); bounds
+    /// what any scouting could give. Reads the world's truth, so never on in a real mission.
+    pub oracle_prior_map: bool,
 }
 
 impl Default for MapperConfig {
@@ -114,6 +118,7 @@ impl Default for MapperConfig {
             max_cells_per_frame: 2000,
             snapshot_every_frames: 50,
             republish_every_frames: 20,
+            oracle_prior_map: false,
         }
     }
 }

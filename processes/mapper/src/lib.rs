@@ -14,6 +14,7 @@
 //!   `min_high_clouds` clouds finding it high; once the rover has put
 //!   `rover_overrules_jumper_after` features in a cell, its stereo alone decides),
 //!   inflation ([`inflation`]) and the diff of changed cells.
+//! - [`oracle_prior`]: evaluation only, the clouds of a flawless scout (every true rock).
 //! - [`snapshot`]: save and restore the statistics; [`view`]: read-only access for plots.
 //!
 //! ```
@@ -48,6 +49,7 @@ pub mod geometry;
 pub mod ground;
 pub mod inflation;
 pub mod map;
+pub mod oracle_prior;
 pub mod process;
 pub mod snapshot;
 pub mod snapshot_writer;

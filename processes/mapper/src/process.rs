@@ -18,6 +18,7 @@ use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 use crate::config::MapperConfig;
 use crate::geometry::GridGeometry;
 use crate::map::{CellState, FeatureMap};
+use crate::oracle_prior::rock_surface_points;
 use crate::snapshot;
 use crate::snapshot_writer::SnapshotWriter;
 
@@ -39,7 +40,13 @@ pub enum MapperProcessError {
     /// A sample could not be received.
     #[error(transparent)]
     Receive(#[from] hopnav_ipc::transport::ReceiveError),
+    /// The world for the oracle prior map could not be generated.
+    #[error("mapper.oracle_prior_map: cannot generate the world: {0}")]
+    World(String),
 }
+
+/// Lattice spacing of the oracle's rock points, metres: 25 points per 0.5 m cell.
+const ORACLE_POINT_SPACING_M: f64 = 0.1;
 
 /// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
 /// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
@@ -209,12 +216,28 @@ impl Process for MapperProcess {
             .config_path
             .parent()
             .map(|dir| dir.join(SNAPSHOT_FILE));
+        let mut restored = false;
         if let Some(path) = &snapshot_path {
             match snapshot::restore_file(&mut map, path) {
-                Ok(true) => eprintln!("mapper: map restored from {}", path.display()),
+                Ok(true) => {
+                    eprintln!("mapper: map restored from {}", path.display());
+                    restored = true;
+                }
                 Ok(false) => {}
                 Err(error) => eprintln!("mapper: starting with an empty map: {error}"),
             }
+        }
+        // A restored map already holds the oracle's points.
+        if section.oracle_prior_map && !restored {
+            let world: hopnav_world::WorldConfig = parse_section(&config, "world")?;
+            let world = hopnav_world::World::generate(&world)
+                .map_err(|error| MapperProcessError::World(error.to_string()))?;
+            let points = rock_surface_points(world.rocks(), ORACLE_POINT_SPACING_M);
+            let accepted = map.insert_cloud(Robot::Rover, &points);
+            eprintln!(
+                "mapper: oracle prior map (evaluation only): {accepted} points on {} rocks",
+                world.rocks().len()
+            );
         }
         let snapshots = match (&snapshot_path, section.snapshot_every_frames) {
             (Some(path), 1..) => match SnapshotWriter::new(&map, path.clone()) {

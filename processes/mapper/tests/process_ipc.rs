@@ -150,3 +150,40 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     drop(restarted);
     std::fs::remove_dir_all(&run_dir).expect("cleanup");
 }
+
+#[test]
+fn the_oracle_prior_map_starts_with_the_worlds_rocks() {
+    let run_id = format!("mapper-oracle-test-{}", std::process::id());
+    let namespace = Namespace::new(&run_id).expect("namespace");
+    let run_dir = std::env::temp_dir().join(&run_id);
+    std::fs::create_dir_all(&run_dir).expect("run dir");
+    let text = "[mapper]\noracle_prior_map = true\nsnapshot_every_frames = 0\n\
+                [[world.rocks.explicit]]\ncenter_m = [5.2, 5.2]\ndiameter_m = 1.5\nheight_m = 0.8\n";
+    let config = hopnav_config::load(Some(text)).expect("ok");
+    std::fs::write(
+        run_dir.join("config.toml"),
+        hopnav_config::to_toml(&config).expect("toml"),
+    )
+    .expect("write config");
+    let test_node = namespace.create_node("mapper_test").expect("node");
+    let updates =
+        SliceSubscriber::<MapHeader>::open(&test_node, &topics::MAP_UPDATES).expect("sub");
+    let context = context(&namespace, &run_dir);
+    let mut mapper = MapperProcess::new(&context).expect("new");
+
+    // No cloud arrives: the rock is on the map from the first frames on, seen "by the rover".
+    let mut cells = Vec::new();
+    for frame in 0..5 {
+        mapper.step(&context, &tick(frame)).expect("step");
+        cells.extend(receive_all(&updates).0);
+    }
+    // (5.2, 5.2) lies in cell (74, 74) of the 0.5 m grid from (−32, −32).
+    let rock = cells
+        .iter()
+        .rfind(|c| (c.x, c.y) == (74, 74))
+        .expect("the rock's cell published");
+    assert_eq!(rock.class, CellClass::Obstacle.code());
+    assert_eq!(rock.observed_by, 1 << Robot::Rover.code());
+    mapper.stop(&context);
+    let _ = std::fs::remove_dir_all(&run_dir);
+}

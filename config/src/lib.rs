@@ -81,6 +81,19 @@ pub fn parse_section<T: serde::de::DeserializeOwned>(
     })
 }
 
+/// The number at `[table] path…` of another process's section (an integer reads as a
+/// float), for a reader that needs one value of it without parsing the whole section;
+/// `None` when absent or not a number. The owning process validates it.
+pub fn number_at(config: &HopnavConfig, table: &str, path: &[&str]) -> Option<f64> {
+    let mut value = config.sections.get(table)?;
+    for key in path {
+        value = value.get(*key)?;
+    }
+    value
+        .as_float()
+        .or_else(|| value.as_integer().map(|i| i as f64))
+}
+
 /// Rejects top-level tables that no process library knows (a typo like `[phsyics]`).
 pub fn check_section_names(config: &HopnavConfig, known: &[&str]) -> Result<(), ConfigError> {
     match config

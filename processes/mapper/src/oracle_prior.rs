@@ -20,7 +20,8 @@
 //!     shape_seed: 0,
 //!     source: RockSource::Explicit(0),
 //! };
-//! let points = rock_surface_points(&[rock], 0.1);
+//! let points = rock_surface_points(&[rock], 0.2, 0.1);
+//! assert!(rock_surface_points(&[rock], 0.5, 0.1).is_empty(), "a rock the rover climbs");
 //! assert!(points.iter().any(|p| p.height_above_ground_m > 0.45));
 //! assert!(points.iter().all(|p| p.height_above_ground_m <= 0.5));
 //! ```
@@ -31,15 +32,16 @@ use hopnav_world::rocks::Rock;
 /// Depth sigma of an oracle point, metres: exact, but positive like a real measurement.
 const ORACLE_DEPTH_SIGMA_M: f32 = 0.01;
 
-/// Points on the upper surface of every rock (a half-ellipsoid on its yawed footprint),
-/// `spacing_m` apart on a lattice over the footprint, with their exact height above the ground
-/// the rock rests on. A non-positive or non-finite spacing gives no points.
-pub fn rock_surface_points(rocks: &[Rock], spacing_m: f64) -> Vec<FeaturePoint> {
+/// Points on the upper surface of every rock taller than `min_height_m` (the rover climbs the
+/// others; a half-ellipsoid on its yawed footprint), `spacing_m` apart on a lattice over the
+/// footprint, with their exact height above the ground the rock rests on. A non-positive or
+/// non-finite spacing gives no points.
+pub fn rock_surface_points(rocks: &[Rock], min_height_m: f64, spacing_m: f64) -> Vec<FeaturePoint> {
     let mut points = Vec::new();
     if !(spacing_m.is_finite() && spacing_m > 0.0) {
         return points;
     }
-    for rock in rocks {
+    for rock in rocks.iter().filter(|rock| rock.height_m > min_height_m) {
         let [a, b, c] = rock.half_extents_m;
         if !(a > 0.0 && b > 0.0 && c > 0.0) {
             continue;
@@ -99,6 +101,7 @@ mod tests {
                 [1.0, 0.2, 0.6],
                 std::f64::consts::FRAC_PI_2,
             )],
+            0.2,
             0.1,
         );
         let max_x = points
@@ -119,13 +122,19 @@ mod tests {
     }
 
     #[test]
-    fn a_tall_rock_becomes_an_obstacle_and_a_low_one_does_not() {
+    fn a_tall_rock_becomes_an_obstacle_and_a_climbable_one_is_left_out() {
         let config = MapperConfig::default();
         let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
         let mut map = FeatureMap::new(&config, geometry);
         let tall = rock([2.25, 2.25], [0.5, 0.5, 0.5], 0.0);
-        let low = rock([-3.25, -3.25], [0.5, 0.5, 0.1], 0.0);
-        map.insert_cloud(Robot::Rover, &rock_surface_points(&[tall, low], 0.1));
+        // 0.18 m: above the mapper's 0.15 m threshold, but the rover climbs it.
+        let low = rock([-3.25, -3.25], [0.5, 0.5, 0.18], 0.0);
+        let points = rock_surface_points(&[tall, low], 0.2, 0.1);
+        assert!(
+            points.iter().all(|p| p.position_m[0] > 0.0),
+            "only the tall rock"
+        );
+        map.insert_cloud(Robot::Rover, &points);
         map.update();
         let class_at = |x: f64, y: f64| {
             let (cx, cy) = geometry.cell_of(x, y).expect("inside");
@@ -138,7 +147,7 @@ mod tests {
     #[test]
     fn a_bad_spacing_gives_no_points() {
         let rocks = [rock([0.0, 0.0], [0.5, 0.5, 0.5], 0.0)];
-        assert!(rock_surface_points(&rocks, 0.0).is_empty());
-        assert!(rock_surface_points(&rocks, f64::NAN).is_empty());
+        assert!(rock_surface_points(&rocks, 0.2, 0.0).is_empty());
+        assert!(rock_surface_points(&rocks, 0.2, f64::NAN).is_empty());
     }
 }

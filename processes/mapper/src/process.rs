@@ -47,6 +47,8 @@ pub enum MapperProcessError {
 
 /// Lattice spacing of the oracle's rock points, metres: 25 points per 0.5 m cell.
 const ORACLE_POINT_SPACING_M: f64 = 0.1;
+/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
+const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
 
 /// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
 /// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
@@ -232,7 +234,13 @@ impl Process for MapperProcess {
             let world: hopnav_world::WorldConfig = parse_section(&config, "world")?;
             let world = hopnav_world::World::generate(&world)
                 .map_err(|error| MapperProcessError::World(error.to_string()))?;
-            let points = rock_surface_points(world.rocks(), ORACLE_POINT_SPACING_M);
+            // A flawless scout knows which rocks the rover climbs: only the others are
+            // reported (the mapper's lower threshold is a margin for measurement noise).
+            let climbable_height_m =
+                hopnav_config::number_at(&config, "physics", &["rover", "max_climbable_height_m"])
+                    .unwrap_or(DEFAULT_CLIMBABLE_HEIGHT_M);
+            let points =
+                rock_surface_points(world.rocks(), climbable_height_m, ORACLE_POINT_SPACING_M);
             let accepted = map.insert_cloud(Robot::Rover, &points);
             eprintln!(
                 "mapper: oracle prior map (evaluation only): {accepted} points on {} rocks",

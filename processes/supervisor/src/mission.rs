@@ -86,16 +86,7 @@ impl MissionObserver {
         let world: hopnav_world::WorldConfig =
             hopnav_config::parse_section(config, "world").ok()?;
         let float_key = |table: &str, path: &[&str], default: f64| {
-            let lookup = || {
-                let mut value = config.sections.get(table)?;
-                for key in path {
-                    value = value.get(*key)?;
-                }
-                value
-                    .as_float()
-                    .or_else(|| value.as_integer().map(|i| i as f64))
-            };
-            lookup().unwrap_or(default)
+            hopnav_config::number_at(config, table, path).unwrap_or(default)
         };
         Some(Self {
             mode: config.mission.mode,

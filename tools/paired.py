@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""tools/paired.py BASE_COMPARE_DIR [VARIANT_DIR ...]: pairs cooperative missions (from the
-variant folders if given, else from the base) with the base's rover-only missions by seed.
+"""tools/paired.py BASE_COMPARE_DIR [VARIANT_DIR ...]: pairs the cooperative missions of the
+base, or every mission of the variant folders if given (any mode: an oracle variant runs
+rover-only with the jumper grounded), with the base's rover-only missions by seed.
 Prints successes, and over seeds both reached B: mean path, replans, route changes, and the
 cooperative change (negative = cooperative shorter / fewer). PAIRED=-v lists every seed."""
 import glob, json, os, sys
@@ -20,8 +21,9 @@ def missions(folder):
 
 base = missions(sys.argv[1])
 coop = {}
-for folder in (sys.argv[2:] or [sys.argv[1]]):
-    coop.update({s: m for (s, mode), m in missions(folder).items() if mode == 'cooperative'})
+variants = sys.argv[2:]
+for folder in (variants or [sys.argv[1]]):
+    coop.update({s: m for (s, mode), m in missions(folder).items() if variants or mode == 'cooperative'})
 ro = {s: m for (s, mode), m in base.items() if mode == 'rover-only'}
 seeds = sorted(set(ro) & set(coop))
 verbose = os.environ.get('PAIRED') == '-v'

@@ -23,7 +23,11 @@ base = missions(sys.argv[1])
 coop = {}
 variants = sys.argv[2:]
 for folder in (variants or [sys.argv[1]]):
-    coop.update({s: m for (s, mode), m in missions(folder).items() if variants or mode == 'cooperative'})
+    found = missions(folder)
+    for (seed, mode), m in found.items():
+        # A variant folder's cooperative mission wins over another mode of the same seed.
+        if mode == 'cooperative' or (variants and (seed, 'cooperative') not in found):
+            coop[seed] = m
 ro = {s: m for (s, mode), m in base.items() if mode == 'rover-only'}
 seeds = sorted(set(ro) & set(coop))
 verbose = os.environ.get('PAIRED') == '-v'

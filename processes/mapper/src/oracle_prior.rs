@@ -26,11 +26,61 @@
 //! assert!(points.iter().all(|p| p.height_above_ground_m <= 0.5));
 //! ```
 
+use hopnav_config::{ConfigError, HopnavConfig, number_at, parse_section};
 use hopnav_ipc::messages::FeaturePoint;
 use hopnav_world::rocks::Rock;
 
 /// Depth sigma of an oracle point, metres: exact, but positive like a real measurement.
 const ORACLE_DEPTH_SIGMA_M: f32 = 0.01;
+/// Lattice spacing of the oracle's rock points, metres: 25 points per 0.5 m cell.
+const ORACLE_POINT_SPACING_M: f64 = 0.1;
+/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
+const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
+
+/// Why the perfect scout's points could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum OraclePriorError {
+    /// `[world]` could not be parsed.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The world could not be generated.
+    #[error("mapper.oracle_prior_map: cannot generate the world: {0}")]
+    World(String),
+}
+
+/// What a perfect scout reports of the world `config` describes.
+#[derive(Debug)]
+pub struct ScoutReport {
+    /// The points of [`rock_surface_points`] on every rock the rover cannot climb.
+    pub points: Vec<FeaturePoint>,
+    /// How many rocks those are.
+    pub rocks_reported: usize,
+    /// How many rocks the world has.
+    pub rocks_in_world: usize,
+}
+
+/// Generates the world of `config` and samples every rock taller than the rover's
+/// `physics.rover.max_climbable_height_m`: a flawless scout knows which rocks the rover
+/// climbs, so only the others are reported (the mapper's lower threshold is a margin for
+/// measurement noise).
+pub fn perfect_scout_report(config: &HopnavConfig) -> Result<ScoutReport, OraclePriorError> {
+    let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
+    let world = hopnav_world::World::generate(&world)
+        .map_err(|error| OraclePriorError::World(error.to_string()))?;
+    let climbable_height_m = number_at(config, "physics", &["rover", "max_climbable_height_m"])
+        .unwrap_or(DEFAULT_CLIMBABLE_HEIGHT_M);
+    let unclimbable: Vec<Rock> = world
+        .rocks()
+        .iter()
+        .filter(|rock| rock.height_m > climbable_height_m)
+        .copied()
+        .collect();
+    Ok(ScoutReport {
+        points: rock_surface_points(&unclimbable, climbable_height_m, ORACLE_POINT_SPACING_M),
+        rocks_reported: unclimbable.len(),
+        rocks_in_world: world.rocks().len(),
+    })
+}
 
 /// Points on the upper surface of every rock taller than `min_height_m` (the rover climbs the
 /// others; a half-ellipsoid on its yawed footprint), `spacing_m` apart on a lattice over the

@@ -18,7 +18,7 @@ use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 use crate::config::MapperConfig;
 use crate::geometry::GridGeometry;
 use crate::map::{CellState, FeatureMap};
-use crate::oracle_prior::rock_surface_points;
+use crate::oracle_prior::{OraclePriorError, perfect_scout_report};
 use crate::snapshot;
 use crate::snapshot_writer::SnapshotWriter;
 
@@ -40,15 +40,10 @@ pub enum MapperProcessError {
     /// A sample could not be received.
     #[error(transparent)]
     Receive(#[from] hopnav_ipc::transport::ReceiveError),
-    /// The world for the oracle prior map could not be generated.
-    #[error("mapper.oracle_prior_map: cannot generate the world: {0}")]
-    World(String),
+    /// The oracle prior map could not be made.
+    #[error(transparent)]
+    OraclePrior(#[from] OraclePriorError),
 }
-
-/// Lattice spacing of the oracle's rock points, metres: 25 points per 0.5 m cell.
-const ORACLE_POINT_SPACING_M: f64 = 0.1;
-/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
-const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
 
 /// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
 /// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
@@ -231,20 +226,12 @@ impl Process for MapperProcess {
         }
         // A restored map already holds the oracle's points.
         if section.oracle_prior_map && !restored {
-            let world: hopnav_world::WorldConfig = parse_section(&config, "world")?;
-            let world = hopnav_world::World::generate(&world)
-                .map_err(|error| MapperProcessError::World(error.to_string()))?;
-            // A flawless scout knows which rocks the rover climbs: only the others are
-            // reported (the mapper's lower threshold is a margin for measurement noise).
-            let climbable_height_m =
-                hopnav_config::number_at(&config, "physics", &["rover", "max_climbable_height_m"])
-                    .unwrap_or(DEFAULT_CLIMBABLE_HEIGHT_M);
-            let points =
-                rock_surface_points(world.rocks(), climbable_height_m, ORACLE_POINT_SPACING_M);
-            let accepted = map.insert_cloud(Robot::Rover, &points);
+            let report = perfect_scout_report(&config)?;
+            let accepted = map.insert_cloud(Robot::Rover, &report.points);
             eprintln!(
-                "mapper: oracle prior map (evaluation only): {accepted} points on {} rocks",
-                world.rocks().len()
+                "mapper: oracle prior map (evaluation only): {accepted} points on the {} rocks \
+                 the rover cannot climb (of {})",
+                report.rocks_reported, report.rocks_in_world
             );
         }
         let snapshots = match (&snapshot_path, section.snapshot_every_frames) {

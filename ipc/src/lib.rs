@@ -18,6 +18,7 @@
 
 pub mod codec;
 pub mod fault;
+pub mod latency;
 pub mod messages;
 pub mod namespace;
 pub mod process_loop;

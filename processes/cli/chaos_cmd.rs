@@ -210,6 +210,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             known_processes: registry::names(),
             run_id: None,
             show_status: false,
+            evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
         });
         let after = hopnav_ipc::namespace::hopnav_files().len();
         let record = match outcome {
@@ -229,7 +230,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
                         } else {
                             format!(
                                 "{} m to go",
-                                mission
+                                hopnav_eval::MissionEvaluation::of(mission)
                                     .final_distance_to_goal_m
                                     .map_or("?".into(), |m| format!("{m:.1}"))
                             )

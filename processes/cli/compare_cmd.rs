@@ -8,6 +8,8 @@ use std::process::ExitCode;
 
 use clap::Args;
 use hopnav_config::{HopnavConfig, MissionMode};
+use hopnav_eval::figure::mission_figure;
+use hopnav_eval::{MissionEvaluation, MissionTruth, TruthEvaluator};
 use hopnav_metrics::map_plot::{Track, write_map_png};
 use hopnav_supervisor::mission_report::MissionReport;
 use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
@@ -167,7 +169,11 @@ pub fn run(args: CompareArgs) -> ExitCode {
                 known_processes: registry::names(),
                 run_id: None,
                 show_status: false,
+                evaluator: Some(std::sync::Arc::new(TruthEvaluator)),
             };
+            // The figure shows the first seed's cooperative mission (with the world's rocks).
+            let figure_config = (mode == MissionMode::Cooperative && !figure_written)
+                .then(|| options.config.clone());
             let row = match launch(options) {
                 Err(LaunchError::Interrupted) => {
                     interrupted = true;
@@ -178,12 +184,19 @@ pub fn run(args: CompareArgs) -> ExitCode {
                     if let Some(mission) = &outcome.report.mission {
                         let _ = mission.print(&mut std::io::stderr());
                     }
+                    for line in &outcome.report.evaluation_summary {
+                        eprintln!("{line}");
+                    }
+                    let record = outcome.mission_record.as_ref();
                     match mode {
-                        MissionMode::Cooperative => figure = outcome.mission_figure.clone(),
+                        MissionMode::Cooperative => {
+                            let truth = figure_config.as_ref().and_then(MissionTruth::from_config);
+                            figure = record
+                                .zip(truth.as_ref())
+                                .and_then(|(record, truth)| mission_figure("", truth, record));
+                        }
                         MissionMode::RoverOnly => {
-                            rover_only_track = outcome.mission_figure.as_ref().and_then(|figure| {
-                                figure.tracks.first().map(|track| track.points_m.clone())
-                            });
+                            rover_only_track = record.map(|record| record.rover_track_m.clone());
                         }
                     }
                     CompareRow {
@@ -278,8 +291,8 @@ fn print_table(rows: &[CompareRow]) {
                     row.mode,
                     if mission.goal_reached { "yes" } else { "no" },
                     mission.executed_path_m,
-                    fmt_opt(mission.full_knowledge_path_m),
-                    fmt_opt(mission.built_map_path_m),
+                    fmt_opt(full_knowledge_m(mission)),
+                    fmt_opt(built_map_m(mission)),
                     mission.replans,
                     mission.route_changes,
                     mission.node_expansions,
@@ -337,7 +350,7 @@ fn print_table(rows: &[CompareRow]) {
     };
     let path_ratio = paired_means(|m| m.executed_path_m);
     // The most scouting could save: the planner's path with every rock known from the start.
-    let best_m = mean(pairs.iter().filter_map(|(_, r)| r.full_knowledge_path_m));
+    let best_m = mean(pairs.iter().filter_map(|(_, r)| full_knowledge_m(r)));
     let replan_ratio = paired_means(|m| m.replans as f64);
     let route_ratio = paired_means(|m| m.route_changes as f64);
     if let (Some(path_m), Some(replans)) = (path_ratio, replan_ratio) {
@@ -374,7 +387,7 @@ fn print_table(rows: &[CompareRow]) {
         // Where the excess over the full-knowledge path comes from, per mode: the map's errors
         // (its built-map path against full knowledge) or learning it on the way (the drive
         // against the built-map path, what an earlier scout can win back).
-        let built = paired_means(|m| m.built_map_path_m.unwrap_or(f64::NAN));
+        let built = paired_means(|m| built_map_m(m).unwrap_or(f64::NAN));
         if let (Some(best_m), Some((cooperative_built_m, rover_built_m))) = (best_m, built)
             && cooperative_built_m.is_finite()
             && rover_built_m.is_finite()
@@ -396,6 +409,16 @@ fn print_table(rows: &[CompareRow]) {
     }
 }
 
+/// The evaluator's full-knowledge path of a mission, metres.
+fn full_knowledge_m(mission: &MissionReport) -> Option<f64> {
+    MissionEvaluation::of(mission).full_knowledge_path_m
+}
+
+/// The evaluator's built-map path of a mission, metres.
+fn built_map_m(mission: &MissionReport) -> Option<f64> {
+    MissionEvaluation::of(mission).built_map_path_m
+}
+
 fn fmt_opt(value: Option<f64>) -> String {
     value.map_or("-".to_owned(), |value| format!("{value:.1}"))
 }
@@ -415,10 +438,10 @@ fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
             mission.is_some_and(|m| m.goal_reached),
             mission.map_or(String::new(), |m| format!("{:.3}", m.executed_path_m)),
             mission
-                .and_then(|m| m.full_knowledge_path_m)
+                .and_then(full_knowledge_m)
                 .map_or(String::new(), |m| format!("{m:.3}")),
             mission
-                .and_then(|m| m.built_map_path_m)
+                .and_then(built_map_m)
                 .map_or(String::new(), |m| format!("{m:.3}")),
             mission.map_or(String::new(), |m| m.replans.to_string()),
             mission.map_or(String::new(), |m| m.route_changes.to_string()),

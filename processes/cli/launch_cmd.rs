@@ -113,6 +113,7 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         known_processes: registry::names(),
         run_id: args.run_id,
         show_status: !args.quiet,
+        evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
     };
     match launch(options) {
         Ok(outcome) => {

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use hopnav_metrics::LatencySummary;
+use hopnav_ipc::latency::LatencySummary;
 use hopnav_planner::AStar;
 use hopnav_planner::dynamic::{Algorithm, DynamicConfig, compare};
 use hopnav_planner::movingai::{Scenario, load_map, load_scen};

@@ -52,7 +52,7 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
         hopnav_planner::process::planner_section(config).map(|_| ())
     }),
     ("mapper", |config| {
-        hopnav_mapper::process::mapper_section(config).map(|_| ())
+        hopnav_mapper::config::mapper_section(config).map(|_| ())
     }),
     ("rover_vo", |config| {
         hopnav_rover_vo::process::rover_vo_section(config).map(|_| ())

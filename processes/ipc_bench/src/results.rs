@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use hopnav_metrics::LatencySummary;
+use hopnav_ipc::latency::LatencySummary;
 use hopnav_metrics::plot::{LinePlot, Scale, Series, write_png, write_svg};
 use serde::Serialize;
 

@@ -115,7 +115,8 @@ pub struct JumperVoConfig {
     /// prior until the measured rates' median disagrees (a launch a rock turned). On by
     /// default: over the 20 missions of each terrain it cut the jumper's median unaligned
     /// RMSE on the default terrain from 3.16 to 1.38 m, and cooperative missions reached B
-    /// more often on both (README, "Jumper attitude"). Off restores the chained rotations.
+    /// more often on both (docs/experiments/2026-12-03-jumper-spin-fit-attitude.md). Off
+    /// restores the chained rotations.
     pub attitude_from_spin_fit: bool,
     /// σ per axis of the commanded launch spin as a prior of that fit, rad/s (≤ 0: none).
     pub launch_angular_velocity_sigma_radps: f64,

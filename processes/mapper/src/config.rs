@@ -13,7 +13,7 @@
 //! assert!(err.contains("mapper.traversable_height_m"));
 //! ```
 
-use hopnav_config::{ConfigError, in_section};
+use hopnav_config::{ConfigError, HopnavConfig, in_section, parse_section};
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::{GridGeometry, MAX_CELLS};
@@ -280,6 +280,29 @@ impl MapperConfig {
         }
         Ok(geometry)
     }
+}
+
+/// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
+/// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
+/// so the returned config always holds an explicit grid (see [`grid_geometry`]).
+pub fn mapper_section(config: &HopnavConfig) -> Result<MapperConfig, ConfigError> {
+    let mut section: MapperConfig = parse_section(config, "mapper")?;
+    section.validate()?;
+    let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
+    let terrain = &world.terrain;
+    let (nodes_x, nodes_y) = terrain.grid_nodes();
+    let extent_m = |nodes: usize| nodes.saturating_sub(1) as f64 * terrain.spacing_m;
+    let geometry = section.resolve_geometry((extent_m(nodes_x), extent_m(nodes_y)))?;
+    section.origin_x_m = Some(geometry.origin_x_m);
+    section.origin_y_m = Some(geometry.origin_y_m);
+    section.width_cells = Some(geometry.width_cells);
+    section.height_cells = Some(geometry.height_cells);
+    Ok(section)
+}
+
+/// The grid of a config returned by [`mapper_section`].
+pub fn grid_geometry(section: &MapperConfig) -> Result<GridGeometry, ConfigError> {
+    section.resolve_geometry((0.0, 0.0))
 }
 
 #[cfg(test)]

@@ -9,14 +9,13 @@
 //! restores them and republishes its whole map (issue #7). With `republish_every_frames` the
 //! whole known map is also sent periodically, for a planner that restarted.
 
-use hopnav_config::{ConfigError, HopnavConfig, parse_section};
+use hopnav_config::ConfigError;
 use hopnav_ipc::messages::{CellUpdate, CloudHeader, FrameTick, MapHeader, Robot};
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 
-use crate::config::MapperConfig;
-use crate::geometry::GridGeometry;
+use crate::config::{MapperConfig, grid_geometry, mapper_section};
 use crate::map::{CellState, FeatureMap};
 use crate::oracle_prior::{OraclePriorError, perfect_scout_report};
 use crate::snapshot;
@@ -43,29 +42,6 @@ pub enum MapperProcessError {
     /// The oracle prior map could not be made.
     #[error(transparent)]
     OraclePrior(#[from] OraclePriorError),
-}
-
-/// Parses and validates `[mapper]`; errors name `mapper.<key>` and the allowed range. Absent
-/// grid keys are filled in to cover the `[world.terrain]` heightfield (centred on the origin),
-/// so the returned config always holds an explicit grid (see [`grid_geometry`]).
-pub fn mapper_section(config: &HopnavConfig) -> Result<MapperConfig, ConfigError> {
-    let mut section: MapperConfig = parse_section(config, "mapper")?;
-    section.validate()?;
-    let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
-    let terrain = &world.terrain;
-    let (nodes_x, nodes_y) = terrain.grid_nodes();
-    let extent_m = |nodes: usize| nodes.saturating_sub(1) as f64 * terrain.spacing_m;
-    let geometry = section.resolve_geometry((extent_m(nodes_x), extent_m(nodes_y)))?;
-    section.origin_x_m = Some(geometry.origin_x_m);
-    section.origin_y_m = Some(geometry.origin_y_m);
-    section.width_cells = Some(geometry.width_cells);
-    section.height_cells = Some(geometry.height_cells);
-    Ok(section)
-}
-
-/// The grid of a config returned by [`mapper_section`].
-pub fn grid_geometry(section: &MapperConfig) -> Result<GridGeometry, ConfigError> {
-    section.resolve_geometry((0.0, 0.0))
 }
 
 /// Merges the clouds and publishes map updates once per frame.

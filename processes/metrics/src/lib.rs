@@ -1,10 +1,8 @@
-//! Measurement helpers shared by the supervisor's report and the benchmarks: latency
-//! summaries and plots that build with no system library.
+//! Measurement helpers shared by the evaluation and the benchmarks: trajectory metrics and
+//! plots that build with no system library. (Latency summaries are the runtime's:
+//! `hopnav_ipc::latency`.)
 #![warn(missing_docs)]
 
 pub mod map_plot;
 pub mod plot;
-mod summary;
 pub mod trajectory;
-
-pub use summary::LatencySummary;

@@ -1,21 +1,23 @@
 //! `hopnav launch`: set up a run, start the graph, run the frame loop, tear down, report.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::IpcService;
+use hopnav_ipc::latency::LatencySummary;
 use hopnav_ipc::messages::{BodyStates, FrameTick, Heartbeat};
 use hopnav_ipc::namespace::{self, Namespace};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
-use hopnav_metrics::LatencySummary;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
 use crate::fault_injector::FaultInjector;
 use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
 use crate::mission::MissionObserver;
+use crate::mission_record::{Evaluation, MissionEvaluator, MissionRecord};
 use crate::report::RunReport;
 use crate::restart::RestartTracker;
 use crate::slot::Slot;
@@ -34,17 +36,15 @@ pub struct LaunchOptions {
     pub run_id: Option<String>,
     /// Print the live status line.
     pub show_status: bool,
+    /// Scores the mission against the truth at the end (the CLI passes `hopnav-eval`'s);
+    /// `None` reports the runtime's own figures only.
+    pub evaluator: Option<Arc<dyn MissionEvaluator>>,
 }
 
 /// What the mission observer found, kept after its ports are gone.
-use crate::vo_accuracy::TumPoses;
-
 struct MissionSummary {
     report: crate::mission_report::MissionReport,
-    figure: Option<hopnav_metrics::map_plot::MapFigure>,
-    rover_track_m: Vec<(f64, f64)>,
-    /// Per robot: name, matched VO estimates and truths.
-    vo_tum: Vec<(&'static str, TumPoses, TumPoses)>,
+    record: MissionRecord,
 }
 
 /// A launch that ran its frame loop.
@@ -60,8 +60,8 @@ pub struct LaunchOutcome {
     /// True when SIGINT or SIGTERM stopped the launch: a command running many launches
     /// should stop too.
     pub interrupted: bool,
-    /// The mission's Fig.-6 map (cells and true tracks), when the graph ran a mission.
-    pub mission_figure: Option<hopnav_metrics::map_plot::MapFigure>,
+    /// What the supervisor recorded of the mission, when the graph ran one.
+    pub mission_record: Option<MissionRecord>,
 }
 
 /// Runs a launch to its end. Setup failures are errors; anything after the graph started
@@ -213,23 +213,9 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         // namespace clean-up below.
         let mission = frame_loop.take_mission().map(|mut mission| {
             mission.observe();
-            let title = format!(
-                "hopnav {} mission, run {run_id}",
-                config.mission.mode.name()
-            );
-            let rocks = mission.truth_rocks();
             MissionSummary {
-                report: mission.report(rocks.as_deref()),
-                figure: mission.figure(&title, rocks.as_deref()),
-                rover_track_m: mission.rover_track_m().to_vec(),
-                vo_tum: mission
-                    .vo_tracks()
-                    .into_iter()
-                    .map(|(robot, track)| {
-                        let (estimate, truth) = track.tum_poses();
-                        (robot, estimate, truth)
-                    })
-                    .collect(),
+                report: mission.report(),
+                record: mission.record(),
             }
         });
         (frame_loop.into_stats(), end, mission)
@@ -249,39 +235,16 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         LoopEnd::Interrupted => "interrupted".to_owned(),
         LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
     };
-    let mission_report = mission.as_ref().map(|mission| mission.report.clone());
-    let figure = mission.as_ref().and_then(|mission| mission.figure.clone());
-    let mission_figure = figure.as_ref().and_then(|figure| {
-        let path = run_dir.join("mission_map.png");
-        match hopnav_metrics::map_plot::write_map_png(&path, figure) {
-            Ok(()) => Some(path.display().to_string()),
-            Err(error) => {
-                eprintln!("warning: {error}");
-                None
-            }
-        }
-    });
+    let mut mission_report = mission.as_ref().map(|mission| mission.report.clone());
+    let mut evaluation = Evaluation::default();
     if let Some(mission) = &mission {
-        let track = mission
-            .rover_track_m
-            .iter()
-            .map(|(x_m, y_m)| format!("{x_m:.3},{y_m:.3}\n"))
-            .collect::<String>();
-        let path = run_dir.join("rover_track.csv");
-        if let Err(error) = std::fs::write(&path, format!("x_m,y_m\n{track}")) {
-            eprintln!("warning: cannot write {}: {error}", path.display());
+        write_rover_track(&run_dir, &mission.record.rover_track_m);
+        if let Some(evaluator) = &options.evaluator {
+            evaluation = evaluator.evaluate(config, &mission.report, &mission.record, &run_dir);
         }
-        for (robot, estimate, truth) in &mission.vo_tum {
-            if estimate.is_empty() {
-                continue;
-            }
-            for (kind, poses) in [("estimate", estimate), ("truth", truth)] {
-                let path = run_dir.join(format!("vo_{robot}_{kind}.tum"));
-                if let Err(error) = hopnav_metrics::trajectory::tum::write_tum(&path, poses) {
-                    eprintln!("warning: {error}");
-                }
-            }
-        }
+    }
+    if let Some(report) = mission_report.as_mut() {
+        report.evaluation = evaluation.fields;
     }
     let mut end_to_end = frame_loop.end_to_end_ns.clone();
     let report = RunReport {
@@ -306,7 +269,8 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         leftover_files,
         faults: fault_records,
         mission: mission_report,
-        mission_figure,
+        mission_figure: evaluation.figure_path,
+        evaluation_summary: evaluation.summary_lines,
         config: serde_json::to_value(config).unwrap_or(serde_json::Value::Null),
     };
     report
@@ -320,6 +284,18 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         run_dir,
         success,
         interrupted,
-        mission_figure: figure,
+        mission_record: mission.map(|mission| mission.record),
     })
+}
+
+/// Writes the rover's true track as `rover_track.csv` (a warning when it cannot).
+fn write_rover_track(run_dir: &Path, track_m: &[(f64, f64)]) {
+    let rows = track_m
+        .iter()
+        .map(|(x_m, y_m)| format!("{x_m:.3},{y_m:.3}\n"))
+        .collect::<String>();
+    let path = run_dir.join("rover_track.csv");
+    if let Err(error) = std::fs::write(&path, format!("x_m,y_m\n{rows}")) {
+        eprintln!("warning: cannot write {}: {error}", path.display());
+    }
 }

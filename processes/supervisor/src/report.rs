@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use hopnav_metrics::LatencySummary;
+use hopnav_ipc::latency::LatencySummary;
 use serde::Serialize;
 
 /// One process in the report.
@@ -87,6 +87,9 @@ pub struct RunReport {
     pub mission: Option<crate::mission_report::MissionReport>,
     /// The Fig.-6 map of the mission, if one was drawn.
     pub mission_figure: Option<String>,
+    /// The evaluator's summary lines (its figures are in `mission`).
+    #[serde(skip)]
+    pub evaluation_summary: Vec<String>,
     /// The configuration used.
     pub config: serde_json::Value,
 }
@@ -168,6 +171,9 @@ impl RunReport {
         }
         if let Some(mission) = &self.mission {
             mission.print(out)?;
+        }
+        for line in &self.evaluation_summary {
+            writeln!(out, "{line}")?;
         }
         if let Some(figure) = &self.mission_figure {
             writeln!(out, "map figure: {figure}")?;

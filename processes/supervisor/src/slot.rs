@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use hopnav_config::ProcessConfig;
-use hopnav_metrics::LatencySummary;
+use hopnav_ipc::latency::LatencySummary;
 
 use crate::child::ChildProcess;
 use crate::report::{ExitRecord, ProcessReport};

@@ -10,7 +10,7 @@
 //!   is **found** when an obstacle cell lies within its footprint plus half a cell.
 //!
 //! ```
-//! use hopnav_supervisor::map_accuracy::{ObstacleCell, RockFootprint, evaluate};
+//! use hopnav_eval::map_accuracy::{ObstacleCell, RockFootprint, evaluate};
 //! let rocks = [RockFootprint { center_m: [1.25, 1.25], radius_m: 0.3, height_m: 0.4 }];
 //! let cells = [
 //!     ObstacleCell { center_m: [1.25, 1.25], by_rover: true, by_jumper: false },

@@ -1,0 +1,24 @@
+//! hopnav's evaluation: everything that compares a run with the truth. The runtime records
+//! (the supervisor's [`hopnav_supervisor::MissionRecord`]); this crate regenerates the world
+//! from the run's config and scores the record against it.
+//!
+//! - [`mission`]: a mission's scores (straight line, distance left, full-knowledge and
+//!   built-map paths, map accuracy, VO accuracy) and their summary lines;
+//! - [`full_knowledge`]: planning on a map known in full, with the planner's costs;
+//! - [`map_accuracy`]: obstacle cells against rocks;
+//! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
+//! - [`figure`]: the mission's Fig.-6 map;
+//! - [`evaluator`]: the [`hopnav_supervisor::MissionEvaluator`] `hopnav launch` passes in.
+//!
+//! Nothing here runs inside the process graph, and no robot ever reads it.
+#![warn(missing_docs)]
+
+pub mod evaluator;
+pub mod figure;
+pub mod full_knowledge;
+pub mod map_accuracy;
+pub mod mission;
+pub mod vo_accuracy;
+
+pub use evaluator::TruthEvaluator;
+pub use mission::{MissionEvaluation, MissionTruth};

@@ -1,0 +1,307 @@
+//! A finished mission against the truth: the straight line and what was left of it, the
+//! full-knowledge and built-map paths, the final map's accuracy and each robot's VO error.
+//!
+//! The world is regenerated from the run's config (evaluation only); the supervisor's
+//! [`MissionRecord`] gives the final map, the true tracks and the VO pairs.
+
+use std::io::Write;
+
+use hopnav_config::HopnavConfig;
+use hopnav_ipc::messages::{CellClass, Robot};
+use hopnav_mapper::config::MapperConfig;
+use hopnav_planner::mission::MapGeometry;
+use hopnav_supervisor::mission_record::{MissionRecord, RecordedMap};
+use hopnav_supervisor::mission_report::MissionReport;
+use serde::{Deserialize, Serialize};
+
+use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
+use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
+use crate::vo_accuracy::{VoAccuracy, accuracy};
+
+/// The mapper's default obstacle threshold (`mapper.traversable_height_m`), metres.
+const DEFAULT_TRAVERSABLE_HEIGHT_M: f64 = 0.15;
+/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
+const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
+/// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
+/// clouds' height noise is a few centimetres), metres.
+const HEIGHT_TOLERANCE_M: f64 = 0.05;
+
+/// What the evaluation adds to the report's `mission` section.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct MissionEvaluation {
+    /// Straight-line distance from A to B, metres.
+    #[serde(default)]
+    pub straight_line_m: Option<f64>,
+    /// True distance from the rover to B at the end, metres.
+    #[serde(default)]
+    pub final_distance_to_goal_m: Option<f64>,
+    /// Length of the path the planner would have driven knowing every rock from the start,
+    /// metres (the most any scouting could shorten the drive to).
+    #[serde(default)]
+    pub full_knowledge_path_m: Option<f64>,
+    /// Length of the path the planner would have driven knowing from the start the map the
+    /// robots built by the end (unknown cells free, as planned; the rover's bump marks left
+    /// out), metres. Above `full_knowledge_path_m` by what the map's errors cost (false or
+    /// misplaced obstacles, missed rocks); below the executed path by what learning the map
+    /// on the way cost, the part a scout that arrives earlier can win back.
+    #[serde(default)]
+    pub built_map_path_m: Option<f64>,
+    /// Obstacle cells against the world's rocks.
+    #[serde(default)]
+    pub map_accuracy: Option<MapAccuracy>,
+    /// Each robot's VO against the truth of the same frames.
+    #[serde(default)]
+    pub vo: Vec<VoAccuracy>,
+}
+
+impl MissionEvaluation {
+    /// The evaluation a report's mission section carries (all `None` when it carries none or
+    /// the fields cannot be read).
+    pub fn of(report: &MissionReport) -> Self {
+        serde_json::from_value(serde_json::Value::Object(report.evaluation.clone()))
+            .unwrap_or_default()
+    }
+
+    /// The fields to merge into the report's mission section.
+    pub fn to_fields(&self) -> serde_json::Map<String, serde_json::Value> {
+        match serde_json::to_value(self) {
+            Ok(serde_json::Value::Object(fields)) => fields,
+            _ => serde_json::Map::new(),
+        }
+    }
+
+    /// The summary lines of a mission whose runtime figures are `report`.
+    pub fn print(&self, report: &MissionReport, out: &mut impl Write) -> std::io::Result<()> {
+        let distance = |value: Option<f64>| value.map_or("-".to_owned(), |m| format!("{m:.1} m"));
+        writeln!(
+            out,
+            "A–B {} in a straight line; {} left to B at the end",
+            distance(self.straight_line_m),
+            distance(self.final_distance_to_goal_m)
+        )?;
+        if let Some(accuracy) = &self.map_accuracy {
+            writeln!(
+                out,
+                "map vs truth: {} obstacle cells on rocks, {} false (rover {}, jumper {} of which {} beside a rock, both {}); rocks the rover cannot climb near its track: {} of {} mapped",
+                accuracy.true_obstacle_cells,
+                accuracy.false_obstacle_cells(),
+                accuracy.false_by_rover,
+                accuracy.false_by_jumper,
+                accuracy.false_by_jumper_misplaced,
+                accuracy.false_by_both,
+                accuracy.blocking_rocks_found,
+                accuracy.blocking_rocks_near_track
+            )?;
+        }
+        if let Some(best_m) = self.full_knowledge_path_m {
+            // The comparison means something only for a drive that got to B.
+            let comparison = if report.goal_reached {
+                format!(
+                    "; the rover drove {:+.1} % more",
+                    100.0 * (report.executed_path_m / best_m.max(1e-9) - 1.0)
+                )
+            } else {
+                String::new()
+            };
+            writeln!(
+                out,
+                "full-knowledge path (every rock known from the start): {best_m:.1} m{comparison}"
+            )?;
+        }
+        if let Some(built_m) = self.built_map_path_m {
+            writeln!(
+                out,
+                "built-map path (the final map known from the start): {built_m:.1} m; what was learnt on the way cost {:+.1} m",
+                report.executed_path_m - built_m
+            )?;
+        }
+        for vo in &self.vo {
+            writeln!(
+                out,
+                "{} VO vs truth over {} poses: ATE Sim(3) {:.3} m, SE(3) {:.3} m, final error {:.3} m after {:.1} m travelled ({:.2} %)",
+                vo.robot,
+                vo.poses,
+                vo.ate_sim3_m,
+                vo.ate_se3_m,
+                vo.final_error_m,
+                vo.travelled_m,
+                vo.drift_percent
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The truth a mission is scored against, read from the run's config.
+#[derive(Debug, Clone)]
+pub struct MissionTruth {
+    /// The scenario's A, world metres.
+    pub start_m: Option<[f64; 2]>,
+    /// The scenario's B, world metres.
+    pub goal_m: Option<[f64; 2]>,
+    /// The world's rocks, regenerated from the config (`None` when it cannot be).
+    pub rocks: Option<Vec<RockFootprint>>,
+    /// The mapper's obstacle threshold, metres.
+    pub traversable_height_m: f64,
+    /// The rover's climb limit, metres.
+    pub climbable_height_m: f64,
+    /// The mapper's grid and inflation (`None` when its config is invalid).
+    pub mapper: Option<MapperConfig>,
+}
+
+impl MissionTruth {
+    /// Reads the scenario, the rocks and the mapper's rules from `config`; `None` when the
+    /// world section is invalid.
+    pub fn from_config(config: &HopnavConfig) -> Option<Self> {
+        let world: hopnav_world::WorldConfig =
+            hopnav_config::parse_section(config, "world").ok()?;
+        let float_key = |table: &str, path: &[&str], default: f64| {
+            hopnav_config::number_at(config, table, path).unwrap_or(default)
+        };
+        let rocks = hopnav_world::World::generate(&world).ok().map(|world| {
+            world
+                .rocks()
+                .iter()
+                .map(|rock| RockFootprint {
+                    center_m: [rock.center_m[0], rock.center_m[1]],
+                    radius_m: rock.bounding_radius_m(),
+                    height_m: rock.height_m,
+                })
+                .collect()
+        });
+        Some(Self {
+            start_m: world.scenario.start_m,
+            goal_m: world.scenario.goal_m,
+            rocks,
+            traversable_height_m: float_key(
+                "mapper",
+                &["traversable_height_m"],
+                DEFAULT_TRAVERSABLE_HEIGHT_M,
+            ),
+            climbable_height_m: float_key(
+                "physics",
+                &["rover", "max_climbable_height_m"],
+                DEFAULT_CLIMBABLE_HEIGHT_M,
+            ),
+            mapper: hopnav_mapper::config::mapper_section(config).ok(),
+        })
+    }
+
+    /// The mapper's grid, as the planner places it (`None` when the mapper config is invalid).
+    pub fn map_geometry(&self) -> Option<MapGeometry> {
+        let grid = hopnav_mapper::config::grid_geometry(self.mapper.as_ref()?).ok()?;
+        MapGeometry::new(
+            grid.origin_x_m,
+            grid.origin_y_m,
+            grid.cell_size_m,
+            grid.width_cells,
+            grid.height_cells,
+        )
+        .ok()
+    }
+}
+
+/// Scores `record` against `truth`.
+pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluation {
+    let distance = |a: Option<[f64; 2]>, b: Option<[f64; 2]>| match (a, b) {
+        (Some(a), Some(b)) => Some((a[0] - b[0]).hypot(a[1] - b[1])),
+        _ => None,
+    };
+    let rocks = truth.rocks.as_deref();
+    MissionEvaluation {
+        straight_line_m: distance(truth.start_m, truth.goal_m),
+        final_distance_to_goal_m: distance(truth.goal_m, record.last_rover_m),
+        full_knowledge_path_m: rocks
+            .and_then(|rocks| full_knowledge(truth, rocks))
+            .map(|path| path.length_m),
+        built_map_path_m: built_map_path(truth, record).map(|path| path.length_m),
+        map_accuracy: rocks.and_then(|rocks| {
+            let map = record.map.as_ref()?;
+            Some(score_map(truth, map, &record.rover_track_m, rocks))
+        }),
+        vo: record
+            .vo
+            .iter()
+            .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
+            .collect(),
+    }
+}
+
+/// The planner's path from A to B had it known from the start every rock the rover cannot
+/// climb.
+fn full_knowledge(truth: &MissionTruth, rocks: &[RockFootprint]) -> Option<FullKnowledgePath> {
+    let mapper = truth.mapper.as_ref()?;
+    let geometry = truth.map_geometry()?;
+    let kernel = hopnav_mapper::inflation::inflation_kernel(
+        geometry.cell_size_m(),
+        mapper.inflation_radius_m,
+        mapper.lethal_radius_m,
+        mapper.inflation_max_cost,
+    );
+    full_knowledge_path(
+        rocks,
+        truth.climbable_height_m,
+        &geometry,
+        &kernel,
+        truth.start_m?,
+        truth.goal_m?,
+    )
+}
+
+/// The planner's path from A to B had it known from the start the final map, classed as the
+/// planner classes the mapper's cells (a lethal margin, and a rock only the jumper saw, are
+/// doubtful obstacles).
+fn built_map_path(truth: &MissionTruth, record: &MissionRecord) -> Option<FullKnowledgePath> {
+    let geometry = truth.map_geometry()?;
+    let width = geometry.width_cells() as usize;
+    let rover_bit = 1u32 << Robot::Rover.code();
+    let mut known =
+        vec![KnownCell::Free { extra_cost: 0 }; width * geometry.height_cells() as usize];
+    for cell in record.map.iter().flat_map(|map| &map.cells) {
+        let Some(slot) = known.get_mut(cell.y as usize * width + cell.x as usize) else {
+            continue;
+        };
+        *slot = match cell.class {
+            CellClass::Obstacle if cell.observed_by & rover_bit != 0 => KnownCell::Obstacle,
+            CellClass::Obstacle | CellClass::Lethal => KnownCell::Doubtful,
+            CellClass::Unknown | CellClass::Free | CellClass::Inflated => KnownCell::Free {
+                extra_cost: cell.extra_cost,
+            },
+        };
+    }
+    plan_on_known_map(&known, &geometry, truth.start_m?, truth.goal_m?)
+}
+
+/// The final map's obstacles against the world's rocks.
+fn score_map(
+    truth: &MissionTruth,
+    map: &RecordedMap,
+    rover_track_m: &[(f64, f64)],
+    rocks: &[RockFootprint],
+) -> MapAccuracy {
+    let rover_bit = 1u32 << Robot::Rover.code();
+    let jumper_bit = 1u32 << Robot::Jumper.code();
+    let size_m = map.cell_size_m;
+    let cells: Vec<ObstacleCell> = map
+        .cells
+        .iter()
+        .filter(|cell| cell.class == CellClass::Obstacle)
+        .map(|cell| ObstacleCell {
+            center_m: [
+                map.origin_m.0 + (f64::from(cell.x) + 0.5) * size_m,
+                map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
+            ],
+            by_rover: cell.observed_by & rover_bit != 0,
+            by_jumper: cell.observed_by & jumper_bit != 0,
+        })
+        .collect();
+    let track_m: Vec<[f64; 2]> = rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
+    map_accuracy::evaluate(
+        rocks,
+        &cells,
+        &track_m,
+        size_m,
+        truth.traversable_height_m - HEIGHT_TOLERANCE_M,
+        truth.climbable_height_m,
+    )
+}

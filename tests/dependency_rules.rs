@@ -24,7 +24,9 @@ enum Layer {
 fn layer_of(name: &str) -> Option<Layer> {
     Some(match name {
         "hopnav-ipc" | "hopnav-config" | "hopnav-supervisor" => Layer::Runtime,
-        "hopnav-world" | "hopnav-vision" | "hopnav-metrics" => Layer::SharedLibrary,
+        "hopnav-world" | "hopnav-vision" | "hopnav-metrics" | "hopnav-robot" => {
+            Layer::SharedLibrary
+        }
         "hopnav-physics" | "hopnav-camera" | "hopnav-jumper-vo" | "hopnav-rover-vo"
         | "hopnav-mapper" | "hopnav-planner" | "hopnav-recorder" | "hopnav-probe"
         | "hopnav-ipc-bench" => Layer::Process,
@@ -44,7 +46,9 @@ fn allowed(from: Layer, from_name: &str, to: Layer, to_name: &str) -> bool {
         // supervisor reads both. Nothing below the CLI but the evaluation reads the supervisor.
         (Layer::Runtime, Layer::Runtime) => from_name != "hopnav-config" && !supervisor,
         (Layer::Runtime, _) => false,
-        (Layer::SharedLibrary, to) => to == Layer::SharedLibrary,
+        // A shared library may read the config (the robot's body does), nothing else of the
+        // runtime.
+        (Layer::SharedLibrary, to) => to == Layer::SharedLibrary || to_name == "hopnav-config",
         (Layer::Process, to) => to == Layer::SharedLibrary || to == Layer::Runtime && !supervisor,
         (Layer::Evaluation, to) => to != Layer::Evaluation,
         (Layer::Cli, _) => true,

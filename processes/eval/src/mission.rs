@@ -18,10 +18,6 @@ use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, p
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
-/// The mapper's default obstacle threshold (`mapper.traversable_height_m`), metres.
-const DEFAULT_TRAVERSABLE_HEIGHT_M: f64 = 0.15;
-/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
-const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
 /// clouds' height noise is a few centimetres), metres.
 const HEIGHT_TOLERANCE_M: f64 = 0.05;
@@ -150,14 +146,13 @@ pub struct MissionTruth {
 }
 
 impl MissionTruth {
-    /// Reads the scenario, the rocks and the mapper's rules from `config`; `None` when the
-    /// world section is invalid.
+    /// Reads the scenario, the rocks, the rover's body and the mapper's rules from
+    /// `config`; `None` when the world or the rover's body is invalid.
     pub fn from_config(config: &HopnavConfig) -> Option<Self> {
         let world: hopnav_world::WorldConfig =
             hopnav_config::parse_section(config, "world").ok()?;
-        let float_key = |table: &str, path: &[&str], default: f64| {
-            hopnav_config::number_at(config, table, path).unwrap_or(default)
-        };
+        let body = hopnav_robot::RoverBody::from_config(config).ok()?;
+        let mapper = hopnav_mapper::config::mapper_section(config).ok();
         let rocks = hopnav_world::World::generate(&world).ok().map(|world| {
             world
                 .rocks()
@@ -173,17 +168,12 @@ impl MissionTruth {
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
             rocks,
-            traversable_height_m: float_key(
-                "mapper",
-                &["traversable_height_m"],
-                DEFAULT_TRAVERSABLE_HEIGHT_M,
-            ),
-            climbable_height_m: float_key(
-                "physics",
-                &["rover", "max_climbable_height_m"],
-                DEFAULT_CLIMBABLE_HEIGHT_M,
-            ),
-            mapper: hopnav_mapper::config::mapper_section(config).ok(),
+            traversable_height_m: mapper
+                .as_ref()
+                .map_or(MapperConfig::default(), Clone::clone)
+                .traversable_height_m,
+            climbable_height_m: body.max_climbable_height_m,
+            mapper,
         })
     }
 

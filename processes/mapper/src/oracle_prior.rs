@@ -26,7 +26,7 @@
 //! assert!(points.iter().all(|p| p.height_above_ground_m <= 0.5));
 //! ```
 
-use hopnav_config::{ConfigError, HopnavConfig, number_at, parse_section};
+use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::FeaturePoint;
 use hopnav_world::rocks::Rock;
 
@@ -34,13 +34,11 @@ use hopnav_world::rocks::Rock;
 const ORACLE_DEPTH_SIGMA_M: f32 = 0.01;
 /// Lattice spacing of the oracle's rock points, metres: 25 points per 0.5 m cell.
 const ORACLE_POINT_SPACING_M: f64 = 0.1;
-/// Physics' default climbable height (`physics.rover.max_climbable_height_m`), metres.
-const DEFAULT_CLIMBABLE_HEIGHT_M: f64 = 0.2;
 
 /// Why the perfect scout's points could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum OraclePriorError {
-    /// `[world]` could not be parsed.
+    /// `[world]` or `[physics.rover]` could not be parsed.
     #[error(transparent)]
     Config(#[from] ConfigError),
     /// The world could not be generated.
@@ -67,8 +65,7 @@ pub fn perfect_scout_report(config: &HopnavConfig) -> Result<ScoutReport, Oracle
     let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
     let world = hopnav_world::World::generate(&world)
         .map_err(|error| OraclePriorError::World(error.to_string()))?;
-    let climbable_height_m = number_at(config, "physics", &["rover", "max_climbable_height_m"])
-        .unwrap_or(DEFAULT_CLIMBABLE_HEIGHT_M);
+    let climbable_height_m = hopnav_robot::RoverBody::from_config(config)?.max_climbable_height_m;
     let unclimbable: Vec<Rock> = world
         .rocks()
         .iter()

@@ -323,16 +323,18 @@ pub struct RoverConfig {
 
 impl Default for RoverConfig {
     fn default() -> Self {
+        // The body's dimensions are defined once, in hopnav-robot, for every crate.
+        let body = hopnav_robot::RoverBody::default();
         Self {
             start_xy_m: [-12.0, -1.5],
             start_yaw_rad: 0.0,
-            wheelbase_m: 0.8,
-            track_m: 0.7,
-            wheel_radius_m: 0.15,
-            wheel_width_m: 0.1,
-            chassis_half_extents_m: [0.5, 0.35, 0.12],
-            ground_clearance_m: 0.3,
-            max_climbable_height_m: 0.2,
+            wheelbase_m: body.wheelbase_m,
+            track_m: body.track_m,
+            wheel_radius_m: body.wheel_radius_m,
+            wheel_width_m: body.wheel_width_m,
+            chassis_half_extents_m: body.chassis_half_extents_m,
+            ground_clearance_m: body.ground_clearance_m,
+            max_climbable_height_m: body.max_climbable_height_m,
             max_tilt_rad: 30f64.to_radians(),
             max_speed_mps: 0.5,
             max_accel_mps2: 0.5,
@@ -349,6 +351,19 @@ impl Default for RoverConfig {
 }
 
 impl RoverConfig {
+    /// The body's dimensions, as the mapper, the planner and the evaluation read them.
+    pub fn body(&self) -> hopnav_robot::RoverBody {
+        hopnav_robot::RoverBody {
+            wheelbase_m: self.wheelbase_m,
+            track_m: self.track_m,
+            wheel_radius_m: self.wheel_radius_m,
+            wheel_width_m: self.wheel_width_m,
+            chassis_half_extents_m: self.chassis_half_extents_m,
+            ground_clearance_m: self.ground_clearance_m,
+            max_climbable_height_m: self.max_climbable_height_m,
+        }
+    }
+
     /// Checks the values under `keys`.
     pub(crate) fn validate(&self, k: &Keys) -> Result<(), ConfigError> {
         k.xy("start_xy_m", self.start_xy_m)?;

@@ -20,6 +20,7 @@ mod validate;
 use std::path::Path;
 
 pub use error::ConfigError;
+pub use merge::deep_merge;
 pub use schema::{
     HopnavConfig, MissionConfig, MissionMode, ProbeConfig, ProcessConfig, RecorderConfig,
     RestartConfig, RestartPolicy, RunConfig, WatchdogConfig,

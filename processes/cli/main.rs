@@ -5,6 +5,7 @@ mod bench_cmd;
 mod chaos_cmd;
 mod compare_cmd;
 mod compare_verdict;
+mod defaults_cmd;
 mod eval_cmd;
 mod jumper_clouds_cmd;
 mod launch_cmd;
@@ -47,6 +48,9 @@ enum Command {
     /// Accuracy evaluations against ground truth.
     #[command(subcommand)]
     Eval(eval_cmd::EvalCommand),
+    /// Print the whole default configuration (the embedded file merged over every process
+    /// library's defaults): every key a config file may override, with its value.
+    Defaults(defaults_cmd::DefaultsArgs),
 }
 
 /// Exit code for a bad configuration or usage, as documented in the README.
@@ -64,5 +68,6 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan_cmd::run(args),
         Command::Compare(args) => compare_cmd::run(args),
         Command::Chaos(args) => chaos_cmd::run(args),
+        Command::Defaults(args) => defaults_cmd::run(args),
     }
 }

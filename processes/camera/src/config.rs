@@ -3,10 +3,10 @@
 use hopnav_config::{ConfigError, HopnavConfig, in_section, parse_section};
 use hopnav_world::camera::CameraConfig;
 use hopnav_world::raster::RenderConfig;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Where a camera sits on its robot (body frame: x forward, y left, z up).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MountConfig {
     /// Optical centre in the body frame, metres (for a stereo pair: midway between the two).
@@ -18,7 +18,7 @@ pub struct MountConfig {
 }
 
 /// `[camera]`: the jumper's rear mono camera and the rover's stereo pair.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraSection {
     /// Jumper camera intrinsics (paper: 320×320, FOV 45° → f = 386.3 px, not the paper's

@@ -10,10 +10,10 @@
 //! assert!(err.contains("jumper_vo.keyframe_min_parallax_deg"));
 //! ```
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// How the metric scale of the monocular translation is obtained.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ScaleMethod {
     /// Paper eq. (4)–(5): `λ = Δz_alt / t_z^w` over the current keyframe pair. Singular near
@@ -28,7 +28,7 @@ pub enum ScaleMethod {
 }
 
 /// Essential-matrix minimal solver.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverChoice {
     /// Nistér's 5-point (default).
@@ -43,7 +43,7 @@ pub enum SolverChoice {
 pub const MAX_CLOUD_TRACK_KEYFRAMES: u32 = 32;
 
 /// Settings of [`crate::pipeline::JumperVo`].
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct JumperVoConfig {
     /// Maximum number of tracked features.

@@ -33,6 +33,9 @@ pub struct MapperConfig {
     /// Cells along y (absent: enough to cover the terrain).
     pub height_cells: Option<u32>,
     /// Features higher than this above the local ground are obstacles for the rover, metres.
+    /// The rover climbs 0.2 m (`physics.rover.max_climbable_height_m`); the 5 cm margin
+    /// covers the clouds' height noise (rover stereo ground RMS ≈ 4 cm), so a rock just above
+    /// the limit is not missed.
     pub traversable_height_m: f64,
     /// Features higher than this above the local ground are outliers and ignored, metres.
     pub max_feature_height_m: f64,

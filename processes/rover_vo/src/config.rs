@@ -10,10 +10,10 @@
 //! assert!(err.contains("rover_vo.max_depth_m"));
 //! ```
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Settings of [`crate::pipeline::RoverVo`].
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RoverVoConfig {
     /// Maximum number of tracked features.

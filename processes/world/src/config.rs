@@ -12,7 +12,7 @@
 //! assert_eq!(err.to_string(), "terrain.spacing_m must be in (0, 1], got 2");
 //! ```
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::ConfigError;
 
@@ -121,7 +121,7 @@ fn inconsistent(prefix: &str, field: &str, reason: String) -> ConfigError {
 }
 
 /// Whole world: terrain, craters, rocks, texture, lighting, scenario points and test markers.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WorldConfig {
     /// Master seed; every random stream of the world derives from it.
@@ -177,7 +177,7 @@ impl WorldConfig {
 ///
 /// The grid is centred on the world origin: x spans `[-(nx-1)·spacing/2, +(nx-1)·spacing/2]`
 /// with `nx = round(size_x_m / spacing_m) + 1`, likewise y.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TerrainConfig {
     /// Extent along world x, metres.
@@ -258,7 +258,7 @@ impl TerrainConfig {
 }
 
 /// Crater population: count, size range and shape ratios.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CraterConfig {
     /// Number of craters placed at random.
@@ -305,7 +305,7 @@ impl CraterConfig {
 }
 
 /// Rock population: Golombek background, clusters and explicit rocks.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RockConfig {
     /// Golombek total rock abundance k (0.07 moderate, 0.16 rocky; 0 disables random rocks).
@@ -366,7 +366,7 @@ impl RockConfig {
 /// toward A, so the rover cannot see whether their back is closed (see
 /// [`boulder_fields`](crate::boulder_fields)). Placed at random from the world seed; they need
 /// `scenario.start_m` and `scenario.goal_m`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BoulderFieldConfig {
     /// Fields to place (0 = none).
@@ -431,7 +431,7 @@ impl BoulderFieldConfig {
 }
 
 /// A cluster of rocks inside an axis-aligned ellipse (e.g. a field that blocks the view).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RockClusterConfig {
     /// Ellipse centre (x, y), metres.
@@ -483,7 +483,7 @@ impl RockClusterConfig {
 }
 
 /// One rock at a given horizontal position; it sits on the terrain.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExplicitRockConfig {
     /// Centre (x, y), metres.
@@ -518,7 +518,7 @@ impl ExplicitRockConfig {
 }
 
 /// Procedural surface texture parameters.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TextureConfig {
     /// Texel size of the baked terrain texture, metres.
@@ -588,7 +588,7 @@ impl TextureConfig {
 }
 
 /// Sun and ambient light, baked into the terrain texture and rock vertices.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LightingConfig {
     /// Sun azimuth, radians, counter-clockwise from world +x.
@@ -631,7 +631,7 @@ impl LightingConfig {
 }
 
 /// Mission points of a scenario; random rocks keep `clear_radius_m` away from them.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ScenarioConfig {
     /// Start point A (x, y), metres.
@@ -674,7 +674,7 @@ impl ScenarioConfig {
 }
 
 /// A flat horizontal square of constant brightness, drawn on top of the terrain.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct MarkerConfig {
     /// Centre of the square, world metres.

@@ -23,7 +23,7 @@ mod tri;
 mod view;
 
 use nalgebra::Isometry3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 pub use scene::RenderScene;
 
@@ -42,7 +42,7 @@ use view::{Frame, View};
 const RIGHT_VIEW_KEY: u64 = 0x0052_4947_4854; // "RIGHT"
 
 /// Rendering options of one camera.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderConfig {
     /// Standard deviation of the Gaussian pixel noise, digital numbers (0 = none).

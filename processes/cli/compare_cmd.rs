@@ -1,29 +1,57 @@
 //! `hopnav compare`: the paper's comparison. Runs the mission in cooperative and rover-only
 //! mode on the same seeded terrains, with rock abundance k spread over the requested range,
-//! and prints the table: success, executed path, replans, expansions, time.
+//! and prints the table and the paired figures (median and worst per-seed ratio, in words).
+//! `--variant` also runs the same seeds with a config overlay and pairs them with the base;
+//! `--pair` pairs finished comparisons without launching; `--expect` judges targets.
 
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
-use hopnav_config::{HopnavConfig, MissionMode};
+use hopnav_config::MissionMode;
 use hopnav_eval::figure::mission_figure;
-use hopnav_eval::{MissionEvaluation, MissionTruth, TruthEvaluator};
+use hopnav_eval::{MissionTruth, TruthEvaluator};
 use hopnav_metrics::map_plot::{Track, write_map_png};
-use hopnav_supervisor::mission_report::MissionReport;
 use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
-use serde::Serialize;
 
-use crate::compare_verdict::{PairedOutcome, verdict_lines};
+use crate::compare_expect::Expectations;
+use crate::compare_pair::comparisons;
+use crate::compare_rows::{CompareRow, RunSet};
+use crate::compare_table::{print_table, write_outputs};
+use crate::compare_variant::{RunSetPlan, VariantMode, mission_config, run_set_plans};
+use crate::compare_verdict::{comparison_lines, verdict_lines};
 use crate::registry;
 
+/// Examples and the targets file's keys, after the options in `--help`.
+const AFTER_HELP: &str = "\
+Examples:
+  hopnav compare --seeds 20 --frames 3000 --out runs/cmp
+  hopnav compare --seeds 20 --variant oracle.toml --variant-mode rover-only --out runs/oracle
+  hopnav compare --pair runs/cmp runs/cmp-new-planner --expect targets.toml
+
+A variant overlay is a config file holding only the keys it changes, e.g.
+  [mapper]
+  oracle_prior_map = true
+
+A targets file (--expect) sets any of these; each judges every cooperative-vs-rover-only
+comparison on the median per-seed ratio over the seeds both modes reached B:
+  [paths]
+  cooperative_shorter_by_percent = 15     # 0 <= value < 100
+  [replans]
+  fewer_by_percent = 20                   # 0 <= value <= 100
+  [route_changes]
+  fewer_by_percent = 10                   # 0 <= value <= 100
+  [success]
+  cooperative_at_least_rover_only = true  # reaches B on at least as many seeds";
+
 #[derive(Debug, Args)]
+#[command(after_long_help = AFTER_HELP)]
 pub struct CompareArgs {
     /// TOML file overriding the embedded defaults (the mission's A and B come from its
     /// [world.scenario]); seed and rock abundance are then set per run.
     config: Option<PathBuf>,
-    /// Seeded terrains to run; each runs once per mode.
+    /// Seeded terrains to run; each runs once per mode (and once per variant mode).
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=1000))]
     seeds: u64,
     /// World seed of the first terrain (the others follow).
@@ -38,76 +66,58 @@ pub struct CompareArgs {
     /// Frame limit of each mission (it ends earlier at the goal).
     #[arg(long, default_value_t = 2400, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
     frames: u64,
-    /// Folder for the run folders, compare.csv, compare.json and compare_map.png.
+    /// Folder for the run folders, compare.csv, compare.json and compare_map.png; a variant
+    /// writes the same into its subfolder `variant/` (with a copy of its overlay).
     #[arg(long, default_value = "runs/compare")]
     out: PathBuf,
+    /// Also run every seed with this TOML overlay merged over the config (any subset of keys,
+    /// table by table, as a config file is merged over the defaults), then pair the variant's
+    /// runs with the base's by seed and mode. A bad overlay stops before any launch (exit 2).
+    /// It may not set what compare sets per run (seed, k, mode, frames, out).
+    #[arg(long, value_name = "OVERLAY.toml")]
+    variant: Option<PathBuf>,
+    /// Which modes the variant runs [default: both]; a variant of one mode is compared with
+    /// rover-only (or cooperative) by borrowing the base's runs of the other mode.
+    #[arg(long, value_enum, value_name = "MODE", requires = "variant")]
+    variant_mode: Option<VariantMode>,
+    /// Launch nothing: pair the runs of finished compare folders (each holds compare.json).
+    /// The first folder is the base; each other folder is paired with it by seed and mode,
+    /// and every folder's cooperative runs with its rover-only runs by seed. After a
+    /// `--variant` run, `--pair OUT OUT/variant` prints its pairing again.
+    #[arg(
+        long,
+        value_name = "DIR",
+        num_args = 1..,
+        conflicts_with_all = [
+            "config", "seeds", "first_seed", "k_min", "k_max", "frames", "out", "variant",
+            "variant_mode",
+        ]
+    )]
+    pair: Vec<PathBuf>,
+    /// Judge the cooperative-vs-rover-only comparisons against the targets in this TOML file
+    /// (its keys are listed at the end of --help); without it no verdict is printed. A bad
+    /// file stops before any launch.
+    #[arg(long, value_name = "TARGETS.toml")]
+    expect: Option<PathBuf>,
 }
 
-/// One mission of the comparison.
-#[derive(Debug, Clone, Serialize)]
-struct CompareRow {
-    seed: u64,
-    golombek_k: f64,
-    mode: String,
-    run_dir: String,
-    runtime_ok: bool,
-    mission: Option<MissionReport>,
-}
-
-fn set_value(config: &mut HopnavConfig, path: &[&str], value: toml::Value) {
-    let Some((last, parents)) = path.split_last() else {
-        return;
-    };
-    let mut table = &mut config.sections;
-    for key in parents {
-        let entry = table
-            .entry((*key).to_owned())
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        if !entry.is_table() {
-            *entry = toml::Value::Table(toml::Table::new());
-        }
-        let Some(next) = entry.as_table_mut() else {
-            return;
-        };
-        table = next;
-    }
-    table.insert((*last).to_owned(), value);
-}
-
-fn mission_config(
-    base: &HopnavConfig,
-    args: &CompareArgs,
-    seed: u64,
-    k: f64,
-    mode: MissionMode,
-) -> HopnavConfig {
-    let mut config = base.clone();
-    set_value(
-        &mut config,
-        &["world", "seed"],
-        toml::Value::Integer(seed as i64),
-    );
-    set_value(
-        &mut config,
-        &["world", "rocks", "golombek_k"],
-        toml::Value::Float(k),
-    );
-    config.mission.mode = mode;
-    config.mission.stop_on_goal = true;
-    config.run.lockstep = true;
-    config.run.frames = args.frames;
-    config.run.out_dir = args.out.display().to_string();
-    config
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
-    let (sum, count) = values.fold((0.0, 0usize), |(sum, count), value| {
-        (sum + value, count + 1)
-    });
-    (count > 0).then(|| sum / count as f64)
-}
+/// The targets file and its path, as printed in the verdict.
+type Targets = (String, Expectations);
 
 pub fn run(args: CompareArgs) -> ExitCode {
+    let targets: Option<Targets> = match &args.expect {
+        None => None,
+        Some(path) => match crate::compare_expect::load(path) {
+            Ok(expect) => Some((path.display().to_string(), expect)),
+            Err(error) => {
+                eprintln!("error: {error}");
+                return ExitCode::from(crate::EXIT_CONFIG);
+            }
+        },
+    };
+    if !args.pair.is_empty() {
+        return pair_folders(&args.pair, targets.as_ref());
+    }
     let loaded = match &args.config {
         Some(path) => hopnav_config::load_file(path),
         None => hopnav_config::load(None),
@@ -127,6 +137,42 @@ pub fn run(args: CompareArgs) -> ExitCode {
         );
         return ExitCode::from(crate::EXIT_CONFIG);
     }
+    let overlay = match args
+        .variant
+        .as_deref()
+        .map(crate::compare_variant::read_overlay)
+    {
+        Some(Err(error)) => {
+            eprintln!("error: {error}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+        Some(Ok(overlay)) => Some(overlay),
+        None => None,
+    };
+    let variant = match &overlay {
+        None => None,
+        Some(overlay) => match crate::compare_variant::apply(&base, overlay) {
+            Ok(config) => Some((config, args.variant_mode.unwrap_or_default())),
+            Err(error) => {
+                eprintln!("error: {error}");
+                return ExitCode::from(crate::EXIT_CONFIG);
+            }
+        },
+    };
+    let plans = run_set_plans(&base, &args.out, variant);
+    // Every run's config is checked before the first launch.
+    for plan in &plans {
+        for index in 0..args.seeds {
+            let (seed, k) = seed_and_k(&args, index);
+            for mode in &plan.modes {
+                let config = mission_config(plan, args.frames, seed, k, *mode);
+                if let Err(error) = registry::check_sections(&config) {
+                    eprintln!("error: {} seed {seed}: {error}", plan.label);
+                    return ExitCode::from(crate::EXIT_CONFIG);
+                }
+            }
+        }
+    }
     let executable = match std::env::current_exe() {
         Ok(path) => path,
         Err(error) => {
@@ -134,343 +180,234 @@ pub fn run(args: CompareArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if let Err(error) = std::fs::create_dir_all(&args.out) {
-        eprintln!("error: cannot create {}: {error}", args.out.display());
-        return ExitCode::FAILURE;
-    }
-    let modes = [MissionMode::Cooperative, MissionMode::RoverOnly];
-    let mut rows = Vec::new();
-    let mut figure_written = false;
-    let mut interrupted = false;
-    'seeds: for index in 0..args.seeds {
-        let seed = args.first_seed + index;
-        let k = if args.seeds > 1 {
-            args.k_min + (args.k_max - args.k_min) * index as f64 / (args.seeds - 1) as f64
-        } else {
-            args.k_min
-        };
-        let mut figure = None;
-        let mut rover_only_track = None;
-        for mode in modes {
-            let config = mission_config(&base, &args, seed, k, mode);
-            if let Err(error) = registry::check_sections(&config) {
-                eprintln!("error: seed {seed}: {error}");
-                return ExitCode::from(crate::EXIT_CONFIG);
-            }
-            eprintln!(
-                "[{}/{}] seed {seed}, k {k:.3}, {} ...",
-                rows.len() + 1,
-                args.seeds * 2,
-                mode.name()
-            );
-            let options = LaunchOptions {
-                config,
-                executable: executable.clone(),
-                known_processes: registry::names(),
-                run_id: None,
-                show_status: false,
-                evaluator: Some(std::sync::Arc::new(TruthEvaluator)),
-            };
-            // The figure shows the first seed's cooperative mission (with the world's rocks).
-            let figure_config = (mode == MissionMode::Cooperative && !figure_written)
-                .then(|| options.config.clone());
-            let row = match launch(options) {
-                Err(LaunchError::Interrupted) => {
-                    interrupted = true;
-                    break 'seeds;
-                }
-                Ok(outcome) => {
-                    interrupted = outcome.interrupted;
-                    if let Some(mission) = &outcome.report.mission {
-                        let _ = mission.print(&mut std::io::stderr());
-                    }
-                    for line in &outcome.report.evaluation_summary {
-                        eprintln!("{line}");
-                    }
-                    let record = outcome.mission_record.as_ref();
-                    match mode {
-                        MissionMode::Cooperative => {
-                            let truth = figure_config.as_ref().and_then(MissionTruth::from_config);
-                            figure = record
-                                .zip(truth.as_ref())
-                                .and_then(|(record, truth)| mission_figure("", truth, record));
-                        }
-                        MissionMode::RoverOnly => {
-                            rover_only_track = record.map(|record| record.rover_track_m.clone());
-                        }
-                    }
-                    CompareRow {
-                        seed,
-                        golombek_k: k,
-                        mode: mode.name().to_owned(),
-                        run_dir: outcome.run_dir.display().to_string(),
-                        runtime_ok: outcome.success,
-                        mission: outcome.report.mission.clone(),
-                    }
-                }
-                Err(error) => {
-                    eprintln!("  launch failed: {error}");
-                    CompareRow {
-                        seed,
-                        golombek_k: k,
-                        mode: mode.name().to_owned(),
-                        run_dir: String::new(),
-                        runtime_ok: false,
-                        mission: None,
-                    }
-                }
-            };
-            rows.push(row);
-            if interrupted {
-                // Ctrl-C (or SIGTERM) stops the whole comparison, not just this launch:
-                // the table and files below keep what finished.
-                break 'seeds;
-            }
-        }
-        if !figure_written && let (Some(mut figure), Some(track)) = (figure, rover_only_track) {
-            figure.title = format!("cooperative vs rover-only, seed {seed}, k {k:.3}");
-            figure.tracks.insert(
-                1,
-                Track {
-                    label: "rover (rover-only)".into(),
-                    points_m: track,
-                    rgb: (120, 0, 160),
-                    markers_only: false,
-                },
-            );
-            let path = args.out.join("compare_map.png");
-            match write_map_png(&path, &figure) {
-                Ok(()) => {
-                    figure_written = true;
-                    eprintln!("map figure: {}", path.display());
-                }
-                Err(error) => eprintln!("warning: {error}"),
-            }
+    for plan in &plans {
+        if let Err(error) = std::fs::create_dir_all(&plan.out) {
+            eprintln!("error: cannot create {}: {error}", plan.out.display());
+            return ExitCode::FAILURE;
         }
     }
-    print_table(&rows);
-    let code = write_outputs(&args, &rows);
+    if let (Some(overlay), Some(plan)) = (&overlay, plans.get(1)) {
+        let copy = plan.out.join("overlay.toml");
+        if let Err(error) = std::fs::write(&copy, &overlay.text) {
+            eprintln!("error: cannot write {}: {error}", copy.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    let (sets, interrupted) = run_missions(&args, &plans, &executable);
+    let mut code = ExitCode::SUCCESS;
+    for (plan, set) in plans.iter().zip(&sets) {
+        if plans.len() > 1 {
+            println!("\n{} ({}):", set.label, plan.out.display());
+        }
+        print_table(&set.rows);
+        if write_outputs(&plan.out, &set.rows) != ExitCode::SUCCESS {
+            code = ExitCode::FAILURE;
+        }
+    }
+    print_paired(&sets, targets.as_ref());
     if interrupted {
+        let total: u64 = plans.iter().map(|plan| plan.modes.len() as u64).sum();
+        let done: usize = sets.iter().map(|set| set.rows.len()).sum();
         eprintln!(
-            "interrupted: stopped after {} of {} launches",
-            rows.len(),
-            args.seeds * 2
+            "interrupted: stopped after {done} of {} launches",
+            total * args.seeds
         );
         return ExitCode::from(crate::EXIT_INTERRUPTED);
     }
     code
 }
 
-fn print_table(rows: &[CompareRow]) {
-    let mut out = std::io::stdout().lock();
-    let _ = writeln!(
-        out,
-        "\n{:>5} {:>6} {:<12} {:>8} {:>9} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7} {:>6} {:>10}",
-        "seed",
-        "k",
-        "mode",
-        "reached",
-        "path m",
-        "best m",
-        "built m",
-        "replans",
-        "routes",
-        "expansions",
-        "time s",
-        "hops",
-        "collisions"
-    );
-    for row in rows {
-        match &row.mission {
-            Some(mission) => {
-                let _ = writeln!(
-                    out,
-                    "{:>5} {:>6.3} {:<12} {:>8} {:>9.1} {:>9} {:>9} {:>8} {:>7} {:>11} {:>7.1} {:>6} {:>10}",
-                    row.seed,
-                    row.golombek_k,
-                    row.mode,
-                    if mission.goal_reached { "yes" } else { "no" },
-                    mission.executed_path_m,
-                    fmt_opt(full_knowledge_m(mission)),
-                    fmt_opt(built_map_m(mission)),
-                    mission.replans,
-                    mission.route_changes,
-                    mission.node_expansions,
-                    mission.mission_time_s,
-                    mission.jumper_hops,
-                    mission.collisions
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    out,
-                    "{:>5} {:>6.3} {:<12} launch failed",
-                    row.seed, row.golombek_k, row.mode
-                );
-            }
-        }
-    }
-    let of_mode = |mode: MissionMode| {
-        rows.iter()
-            .filter(move |row| row.mode == mode.name())
-            .filter_map(|row| row.mission.as_ref().map(|mission| (row.seed, mission)))
+/// Seed and rock abundance k of the `index`-th terrain.
+fn seed_and_k(args: &CompareArgs, index: u64) -> (u64, f64) {
+    let k = if args.seeds > 1 {
+        args.k_min + (args.k_max - args.k_min) * index as f64 / (args.seeds - 1) as f64
+    } else {
+        args.k_min
     };
-    let _ = writeln!(out);
-    for mode in [MissionMode::Cooperative, MissionMode::RoverOnly] {
-        let total = rows.iter().filter(|row| row.mode == mode.name()).count();
-        let reached = of_mode(mode)
-            .filter(|(_, mission)| mission.goal_reached)
-            .count();
-        let _ = writeln!(
-            out,
-            "{:<12} success {reached}/{total}, mean path {} m, mean replans {} (of them moving the route {}), mean expansions {}",
-            mode.name(),
-            fmt_opt(mean(
-                of_mode(mode)
-                    .filter(|(_, m)| m.goal_reached)
-                    .map(|(_, m)| m.executed_path_m)
-            )),
-            fmt_opt(mean(of_mode(mode).map(|(_, m)| m.replans as f64))),
-            fmt_opt(mean(of_mode(mode).map(|(_, m)| m.route_changes as f64))),
-            fmt_opt(mean(of_mode(mode).map(|(_, m)| m.node_expansions as f64))),
+    (args.first_seed + index, k)
+}
+
+/// `hopnav compare --pair DIR...`: reads each folder's compare.json and prints the pairing.
+fn pair_folders(dirs: &[PathBuf], targets: Option<&Targets>) -> ExitCode {
+    let mut sets = Vec::new();
+    for (index, dir) in dirs.iter().enumerate() {
+        let rows = match crate::compare_rows::read_rows(dir) {
+            Ok(rows) => rows,
+            Err(error) => {
+                eprintln!("error: {error}");
+                return ExitCode::from(crate::EXIT_CONFIG);
+            }
+        };
+        let label = match (index, dirs.len()) {
+            (0, _) => "base".to_owned(),
+            (_, 2) => "variant".to_owned(),
+            (index, _) => format!("variant {index}"),
+        };
+        let set = RunSet { label, rows };
+        let modes: Vec<&str> = set.modes().iter().map(|mode| mode.name()).collect();
+        println!(
+            "{}: {} ({} runs: {})",
+            set.label,
+            dir.display(),
+            set.rows.len(),
+            modes.join(", ")
         );
+        sets.push(set);
     }
-    // Paired over the seeds where both modes reached the goal.
-    let pairs: Vec<(&MissionReport, &MissionReport)> = of_mode(MissionMode::Cooperative)
-        .filter_map(|(seed, cooperative)| {
-            of_mode(MissionMode::RoverOnly)
-                .find(|(other, _)| *other == seed)
-                .map(|(_, rover_only)| (cooperative, rover_only))
-        })
-        .filter(|(cooperative, rover_only)| cooperative.goal_reached && rover_only.goal_reached)
-        .collect();
-    // (cooperative mean, rover-only mean) of one field over the pairs.
-    let paired_means = |field: fn(&MissionReport) -> f64| {
-        mean(pairs.iter().map(|(c, _)| field(c))).zip(mean(pairs.iter().map(|(_, r)| field(r))))
+    print_paired(&sets, targets);
+    ExitCode::SUCCESS
+}
+
+/// The paired comparisons of the base (first set) and its variants, then the verdicts.
+fn print_paired(sets: &[RunSet], targets: Option<&Targets>) {
+    let Some((base, variants)) = sets.split_first() else {
+        return;
     };
-    let path_ratio = paired_means(|m| m.executed_path_m);
-    // The most scouting could save: the planner's path with every rock known from the start.
-    let best_m = mean(pairs.iter().filter_map(|(_, r)| full_knowledge_m(r)));
-    let replan_ratio = paired_means(|m| m.replans as f64);
-    let route_ratio = paired_means(|m| m.route_changes as f64);
-    if let (Some(path_m), Some(replans)) = (path_ratio, replan_ratio) {
-        let (cooperative_m, rover_m) = path_m;
-        let reached = |mode| {
-            of_mode(mode)
-                .filter(|(_, mission)| mission.goal_reached)
-                .count()
-        };
-        let outcome = PairedOutcome {
-            paired_seeds: pairs.len(),
-            seeds_per_mode: rows
-                .iter()
-                .filter(|row| row.mode == MissionMode::RoverOnly.name())
-                .count(),
-            cooperative_reached: reached(MissionMode::Cooperative),
-            rover_only_reached: reached(MissionMode::RoverOnly),
-            path_m,
-            replans,
-            route_changes: route_ratio.unwrap_or((0.0, 0.0)),
-        };
-        for line in verdict_lines(&outcome) {
+    let mut out = std::io::stdout().lock();
+    let all = comparisons(base, variants);
+    for comparison in &all {
+        let _ = writeln!(out);
+        for line in comparison_lines(comparison) {
             let _ = writeln!(out, "{line}");
         }
-        if let Some(best_m) = best_m {
-            let _ = writeln!(
-                out,
-                "  over the same seeds: full-knowledge path {best_m:.1} m (the planner's path with every rock known from the start); rover-only drove {:+.1} %, cooperative {:+.1} % more; a scout revealing every rock would shorten rover-only's path by about {:.1} %",
-                100.0 * (rover_m / best_m.max(1e-9) - 1.0),
-                100.0 * (cooperative_m / best_m.max(1e-9) - 1.0),
-                100.0 * (1.0 - best_m / rover_m.max(1e-9))
-            );
-        }
-        // Where the excess over the full-knowledge path comes from, per mode: the map's errors
-        // (its built-map path against full knowledge) or learning it on the way (the drive
-        // against the built-map path, what an earlier scout can win back).
-        let built = paired_means(|m| built_map_m(m).unwrap_or(f64::NAN));
-        if let (Some(best_m), Some((cooperative_built_m, rover_built_m))) = (best_m, built)
-            && cooperative_built_m.is_finite()
-            && rover_built_m.is_finite()
-        {
-            let _ = writeln!(
-                out,
-                "  built-map path (the final map known from the start): rover-only {rover_built_m:.1} m, cooperative {cooperative_built_m:.1} m; map errors cost rover-only {:+.1} m, cooperative {:+.1} m; learning the map on the way cost rover-only {:+.1} m, cooperative {:+.1} m",
-                rover_built_m - best_m,
-                cooperative_built_m - best_m,
-                rover_m - rover_built_m,
-                cooperative_m - cooperative_built_m
-            );
-        }
-    } else {
-        let _ = writeln!(
-            out,
-            "no seed where both modes reached the goal: no paired comparison"
-        );
     }
-}
-
-/// The evaluator's full-knowledge path of a mission, metres.
-fn full_knowledge_m(mission: &MissionReport) -> Option<f64> {
-    MissionEvaluation::of(mission).full_knowledge_path_m
-}
-
-/// The evaluator's built-map path of a mission, metres.
-fn built_map_m(mission: &MissionReport) -> Option<f64> {
-    MissionEvaluation::of(mission).built_map_path_m
-}
-
-fn fmt_opt(value: Option<f64>) -> String {
-    value.map_or("-".to_owned(), |value| format!("{value:.1}"))
-}
-
-fn write_outputs(args: &CompareArgs, rows: &[CompareRow]) -> ExitCode {
-    let mut csv = String::from(
-        "seed,golombek_k,mode,runtime_ok,goal_reached,executed_path_m,full_knowledge_path_m,built_map_path_m,replans,route_changes,node_expansions,mission_time_s,jump_requests,jumper_hops,collisions,run_dir\n",
-    );
-    for row in rows {
-        let mission = row.mission.as_ref();
-        csv.push_str(&format!(
-            "{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            row.seed,
-            row.golombek_k,
-            row.mode,
-            row.runtime_ok,
-            mission.is_some_and(|m| m.goal_reached),
-            mission.map_or(String::new(), |m| format!("{:.3}", m.executed_path_m)),
-            mission
-                .and_then(full_knowledge_m)
-                .map_or(String::new(), |m| format!("{m:.3}")),
-            mission
-                .and_then(built_map_m)
-                .map_or(String::new(), |m| format!("{m:.3}")),
-            mission.map_or(String::new(), |m| m.replans.to_string()),
-            mission.map_or(String::new(), |m| m.route_changes.to_string()),
-            mission.map_or(String::new(), |m| m.node_expansions.to_string()),
-            mission.map_or(String::new(), |m| format!("{:.2}", m.mission_time_s)),
-            mission.map_or(String::new(), |m| m.jump_requests.to_string()),
-            mission.map_or(String::new(), |m| m.jumper_hops.to_string()),
-            mission.map_or(String::new(), |m| m.collisions.to_string()),
-            row.run_dir
-        ));
-    }
-    let csv_path = args.out.join("compare.csv");
-    let json_path = args.out.join("compare.json");
-    let json = serde_json::to_string_pretty(rows).unwrap_or_default();
-    for (path, text) in [(&csv_path, csv), (&json_path, json)] {
-        if let Err(error) = std::fs::write(path, text) {
-            eprintln!("error: cannot write {}: {error}", path.display());
-            return ExitCode::FAILURE;
+    if let Some((source, expect)) = targets {
+        for comparison in &all {
+            let lines = verdict_lines(expect, source, comparison);
+            if !lines.is_empty() {
+                let _ = writeln!(out);
+            }
+            for line in lines {
+                let _ = writeln!(out, "{line}");
+            }
         }
     }
-    println!(
-        "results: {} and {}",
-        csv_path.display(),
-        json_path.display()
-    );
-    if rows.iter().all(|row| row.runtime_ok) {
-        ExitCode::SUCCESS
-    } else {
-        eprintln!("some launches failed: see the run folders");
-        ExitCode::FAILURE
+}
+
+/// Launches every mission, seed by seed (a seed's base runs, then its variant runs), and
+/// writes each set's map figure: its first seed with both modes, the cooperative mission with
+/// the world's rocks and the rover-only rover's track. Returns the sets and whether Ctrl-C
+/// (or SIGTERM) stopped the comparison.
+fn run_missions(
+    args: &CompareArgs,
+    plans: &[RunSetPlan],
+    executable: &Path,
+) -> (Vec<RunSet>, bool) {
+    let total: u64 = plans
+        .iter()
+        .map(|plan| plan.modes.len() as u64)
+        .sum::<u64>()
+        * args.seeds;
+    let mut sets: Vec<RunSet> = plans
+        .iter()
+        .map(|plan| RunSet {
+            label: plan.label.clone(),
+            rows: Vec::new(),
+        })
+        .collect();
+    let mut figure_written = vec![false; plans.len()];
+    let mut launched = 0;
+    for index in 0..args.seeds {
+        let (seed, k) = seed_and_k(args, index);
+        for (plan_index, plan) in plans.iter().enumerate() {
+            let mut figure = None;
+            let mut rover_only_track = None;
+            for &mode in &plan.modes {
+                launched += 1;
+                let set_name = if plan_index == 0 {
+                    String::new()
+                } else {
+                    format!("{} ", plan.label)
+                };
+                eprintln!(
+                    "[{launched}/{total}] {set_name}seed {seed}, k {k:.3}, {} ...",
+                    mode.name()
+                );
+                let options = LaunchOptions {
+                    config: mission_config(plan, args.frames, seed, k, mode),
+                    executable: executable.to_owned(),
+                    known_processes: registry::names(),
+                    run_id: None,
+                    show_status: false,
+                    evaluator: Some(std::sync::Arc::new(TruthEvaluator)),
+                };
+                let figure_config = (mode == MissionMode::Cooperative
+                    && !figure_written[plan_index])
+                    .then(|| options.config.clone());
+                let mut row = CompareRow {
+                    seed,
+                    golombek_k: k,
+                    mode: mode.name().to_owned(),
+                    run_dir: String::new(),
+                    runtime_ok: false,
+                    mission: None,
+                };
+                let interrupted = match launch(options) {
+                    Err(LaunchError::Interrupted) => return (sets, true),
+                    Err(error) => {
+                        eprintln!("  launch failed: {error}");
+                        false
+                    }
+                    Ok(outcome) => {
+                        if let Some(mission) = &outcome.report.mission {
+                            let _ = mission.print(&mut std::io::stderr());
+                        }
+                        for line in &outcome.report.evaluation_summary {
+                            eprintln!("{line}");
+                        }
+                        let record = outcome.mission_record.as_ref();
+                        match mode {
+                            MissionMode::Cooperative => {
+                                let truth =
+                                    figure_config.as_ref().and_then(MissionTruth::from_config);
+                                figure = record
+                                    .zip(truth.as_ref())
+                                    .and_then(|(record, truth)| mission_figure("", truth, record));
+                            }
+                            MissionMode::RoverOnly => {
+                                rover_only_track =
+                                    record.map(|record| record.rover_track_m.clone());
+                            }
+                        }
+                        row.run_dir = outcome.run_dir.display().to_string();
+                        row.runtime_ok = outcome.success;
+                        row.mission = outcome.report.mission.clone();
+                        outcome.interrupted
+                    }
+                };
+                sets[plan_index].rows.push(row);
+                if interrupted {
+                    // Ctrl-C stops the whole comparison, not just this launch: the tables
+                    // and files keep what finished.
+                    return (sets, true);
+                }
+            }
+            if !figure_written[plan_index]
+                && let (Some(mut figure), Some(track)) = (figure, rover_only_track)
+            {
+                figure.title = format!("cooperative vs rover-only, seed {seed}, k {k:.3}");
+                if plan_index > 0 {
+                    figure.title.push_str(&format!(" ({})", plan.label));
+                }
+                figure.tracks.insert(
+                    1,
+                    Track {
+                        label: "rover (rover-only)".into(),
+                        points_m: track,
+                        rgb: (120, 0, 160),
+                        markers_only: false,
+                    },
+                );
+                let path = plan.out.join("compare_map.png");
+                match write_map_png(&path, &figure) {
+                    Ok(()) => {
+                        figure_written[plan_index] = true;
+                        eprintln!("map figure: {}", path.display());
+                    }
+                    Err(error) => eprintln!("warning: {error}"),
+                }
+            }
+        }
     }
+    (sets, false)
 }

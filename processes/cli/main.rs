@@ -4,6 +4,11 @@
 mod bench_cmd;
 mod chaos_cmd;
 mod compare_cmd;
+mod compare_expect;
+mod compare_pair;
+mod compare_rows;
+mod compare_table;
+mod compare_variant;
 mod compare_verdict;
 mod defaults_cmd;
 mod eval_cmd;

@@ -222,12 +222,8 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
 fn full_knowledge(truth: &MissionTruth, rocks: &[RockFootprint]) -> Option<FullKnowledgePath> {
     let mapper = truth.mapper.as_ref()?;
     let geometry = truth.map_geometry()?;
-    let kernel = hopnav_mapper::inflation::inflation_kernel(
-        geometry.cell_size_m(),
-        mapper.inflation_radius_m,
-        mapper.lethal_radius_m,
-        mapper.inflation_max_cost,
-    );
+    // The mapper's own kernel: the full-knowledge path is planned with the same cost model.
+    let kernel = hopnav_mapper::inflation::kernel_for(mapper, geometry.cell_size_m());
     full_knowledge_path(
         rocks,
         truth.climbable_height_m,

@@ -92,6 +92,39 @@ pub struct MapperConfig {
     /// would have mapped it before the rover moved (see [`crate::oracle_prior`]); bounds
     /// what any scouting could give. Reads the world's truth, so never on in a real mission.
     pub oracle_prior_map: bool,
+    /// How cells become obstacles: `features` counts features above `traversable_height_m`
+    /// (the first mapper's rule, with a lethal ring of `lethal_radius_m`); `traversability`
+    /// keeps a per-cell belief that something taller than the rover's climb limit stands
+    /// there ([`crate::belief`]: a fused top with its sigma, log-odds with clamps and
+    /// hysteresis, rays that clear what they pass through) and inflates lethal cells by the
+    /// rover's footprint ([`crate::inflation::footprint_kernel`]).
+    pub obstacle_model: ObstacleModel,
+    /// `traversability`: a point's height sigma is at least this (the clouds' heights above
+    /// the local ground also carry the ground's error: rover stereo ground RMS ≈ 4 cm), metres.
+    pub height_sigma_floor_m: f64,
+    /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
+    /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
+    /// out to `inflation_radius_m`, 1/m.
+    pub cost_scaling_per_m: f64,
+    /// `traversability`: extra cost of a cell whose belief is uncertain (maybe taller than the
+    /// climb limit), planner units: dear enough to go round, cheap enough to go through when
+    /// the detour is long, so the rover's closer look can settle it.
+    pub uncertain_cost: u32,
+    /// The rover's body, from `[physics.rover]` (not a `[mapper]` key): its climb limit and
+    /// its footprint's radii, for the `traversability` model.
+    #[serde(skip)]
+    pub rover_body: hopnav_robot::RoverBody,
+}
+
+/// How the mapper decides that a cell blocks the rover (see [`MapperConfig::obstacle_model`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ObstacleModel {
+    /// Count features above `traversable_height_m` (the first mapper's binary rule).
+    #[default]
+    Features,
+    /// A per-cell belief against the rover's climb limit, inflated by its footprint.
+    Traversability,
 }
 
 impl Default for MapperConfig {
@@ -122,6 +155,11 @@ impl Default for MapperConfig {
             snapshot_every_frames: 50,
             republish_every_frames: 20,
             oracle_prior_map: false,
+            obstacle_model: ObstacleModel::Features,
+            height_sigma_floor_m: 0.03,
+            cost_scaling_per_m: 3.0,
+            uncertain_cost: 1500,
+            rover_body: hopnav_robot::RoverBody::default(),
         }
     }
 }
@@ -250,6 +288,14 @@ impl MapperConfig {
             0,
             1_000_000,
         )?;
+        check_f64("height_sigma_floor_m", self.height_sigma_floor_m, 0.0, 1.0)?;
+        check_f64("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
+        check_u64(
+            "uncertain_cost",
+            u64::from(self.uncertain_cost),
+            0,
+            1_000_000,
+        )?;
         Ok(())
     }
 
@@ -291,6 +337,7 @@ impl MapperConfig {
 pub fn mapper_section(config: &HopnavConfig) -> Result<MapperConfig, ConfigError> {
     let mut section: MapperConfig = parse_section(config, "mapper")?;
     section.validate()?;
+    section.rover_body = hopnav_robot::RoverBody::from_config(config)?;
     let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
     let terrain = &world.terrain;
     let (nodes_x, nodes_y) = terrain.grid_nodes();

@@ -42,6 +42,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod belief;
 pub mod cell;
 pub mod config;
 pub mod dirty;
@@ -51,6 +52,8 @@ pub mod inflation;
 pub mod map;
 pub mod oracle_prior;
 pub mod process;
+pub mod rays;
 pub mod snapshot;
 pub mod snapshot_writer;
+pub mod traversability;
 pub mod view;

@@ -10,12 +10,14 @@
 use hopnav_ipc::messages::{CellClass, CellUpdate, FeaturePoint, Robot};
 use serde::{Deserialize, Serialize};
 
+use crate::belief::BeliefClass;
 use crate::cell::{CellStats, LOW_POINTS};
-use crate::config::MapperConfig;
+use crate::config::{MapperConfig, ObstacleModel};
 use crate::dirty::DirtySet;
 use crate::geometry::GridGeometry;
 use crate::ground::{GroundPlane, GroundScratch, fit_ground};
-use crate::inflation::{KernelEntry, inflation_kernel, kernel_reach};
+use crate::inflation::{KernelEntry, kernel_for, kernel_reach};
+use crate::traversability::BeliefLayer;
 
 /// What the map did with the features it was given.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -30,6 +32,10 @@ pub struct MapCounters {
     pub implausible_height: u64,
     /// Features whose depth sigma exceeds `max_depth_sigma_m`.
     pub uncertain: u64,
+    /// Features with a negative depth sigma, or (`traversability` model, which weighs every
+    /// point by its sigma) a zero one.
+    #[serde(default)]
+    pub bad_sigma: u64,
 }
 
 /// Published state of one cell.
@@ -79,6 +85,8 @@ enum BaseClass {
     #[default]
     Unknown,
     Free,
+    /// Maybe taller than the rover can climb (`traversability` model): a finite cost.
+    Uncertain,
     Obstacle,
 }
 
@@ -99,6 +107,7 @@ struct Thresholds {
     min_free_support: u32,
     ground_reach_cells: u32,
     max_cells_per_update: usize,
+    uncertain_cost: u32,
 }
 
 /// The merged, bounded map of both robots' features.
@@ -123,18 +132,15 @@ pub struct FeatureMap {
     counters: MapCounters,
     /// Number of the cloud being inserted (cells count each cloud's vote once).
     cloud_sequence: u32,
+    /// The `traversability` model's beliefs (`None` under the `features` model).
+    beliefs: Option<BeliefLayer>,
 }
 
 impl FeatureMap {
     /// An empty map over `geometry` with the thresholds of `config` (validated by the caller).
     pub fn new(config: &MapperConfig, geometry: GridGeometry) -> Self {
         let cells = geometry.cell_count();
-        let kernel = inflation_kernel(
-            geometry.cell_size_m,
-            config.inflation_radius_m,
-            config.lethal_radius_m,
-            config.inflation_max_cost,
-        );
+        let kernel = kernel_for(config, geometry.cell_size_m);
         let ground_reach_cells = (config.ground_window_m / geometry.cell_size_m)
             .ceil()
             .clamp(1.0, 64.0) as u32;
@@ -156,6 +162,7 @@ impl FeatureMap {
                 min_free_support: config.min_free_support,
                 ground_reach_cells,
                 max_cells_per_update: config.max_cells_per_frame.max(1) as usize,
+                uncertain_cost: config.uncertain_cost,
             },
             inflation_reach_cells: kernel_reach(&kernel),
             kernel,
@@ -171,7 +178,14 @@ impl FeatureMap {
             ground: GroundScratch::with_capacity(window * LOW_POINTS),
             counters: MapCounters::default(),
             cloud_sequence: 0,
+            beliefs: (config.obstacle_model == ObstacleModel::Traversability)
+                .then(|| BeliefLayer::new(config, cells)),
         }
+    }
+
+    /// The `traversability` model's beliefs (`None` under the `features` model).
+    pub fn beliefs(&self) -> Option<&BeliefLayer> {
+        self.beliefs.as_ref()
     }
 
     /// The grid geometry.
@@ -216,6 +230,11 @@ impl FeatureMap {
             self.counters.non_finite += 1;
             return;
         }
+        let sigma_required = self.beliefs.is_some();
+        if point.depth_sigma_m < 0.0 || sigma_required && point.depth_sigma_m <= 0.0 {
+            self.counters.bad_sigma += 1;
+            return;
+        }
         if point.depth_sigma_m > self.thresholds.max_depth_sigma_m {
             self.counters.uncertain += 1;
             return;
@@ -239,8 +258,9 @@ impl FeatureMap {
             Robot::Jumper => t.jumper_height_sigma_factor,
             Robot::Rover => t.rover_height_sigma_factor,
         };
-        let high_above_m =
-            t.traversable_height_m + sigma_factor * vertical_sigma_m(camera_m, point) as f32;
+        let vertical_sigma_m = vertical_sigma_m(camera_m, point) as f32;
+        let high_above_m = t.traversable_height_m + sigma_factor * vertical_sigma_m;
+        let mut belief_height_m = height;
         if height.is_none()
             && let Some(plane) = &self.ground_cache[index]
         {
@@ -248,6 +268,26 @@ impl FeatureMap {
                 f64::from(point.position_m[2]) - plane.height_at(f64::from(x), f64::from(y));
             if above_m <= f64::from(t.max_feature_height_m) {
                 self.stats[index].add_provisional(above_m > f64::from(high_above_m));
+                belief_height_m = Some(above_m as f32);
+            }
+        }
+        if let (Some(layer), Some(height_m)) = (self.beliefs.as_mut(), belief_height_m) {
+            layer.add_point(index, self.cloud_sequence, height_m, vertical_sigma_m);
+            // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
+            // pose drift, and a ray drawn off its place would clear a real rock.
+            if robot == Robot::Rover
+                && let Some(camera_m) = camera_m
+            {
+                let point_m = point.position_m.map(f64::from);
+                let ground_z_m = point_m[2] - f64::from(height_m);
+                layer.add_ray(
+                    &self.geometry,
+                    camera_m,
+                    point_m,
+                    ground_z_m,
+                    self.cloud_sequence,
+                    &mut self.touched,
+                );
             }
         }
         if robot == Robot::Jumper
@@ -294,6 +334,10 @@ impl FeatureMap {
             self.base[index] = base;
             self.restate.insert(index);
             if was_obstacle != is_obstacle {
+                if self.beliefs.is_some() {
+                    // A rock's flanks join it or leave it with its top (next update).
+                    self.reclassify_neighbours(index);
+                }
                 let (x, y) = self.geometry.coords(index);
                 let (x0, y0, x1, y1) = self.geometry.window(x, y, self.inflation_reach_cells);
                 for ny in y0..=y1 {
@@ -371,13 +415,20 @@ impl FeatureMap {
         let cells = self.stats.capacity() * size_of::<CellStats>()
             + self.ground_cache.capacity() * size_of::<Option<GroundPlane>>()
             + self.base.capacity() * size_of::<Base>()
-            + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>();
+            + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>()
+            + self.beliefs.as_ref().map_or(0, BeliefLayer::memory_bytes);
         let sets = 4 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
         cells + sets + self.ground.samples.capacity() * 5 * size_of::<f64>()
     }
 
     pub(crate) fn stats_slice(&self) -> &[CellStats] {
         &self.stats
+    }
+
+    pub(crate) fn set_beliefs(&mut self, beliefs: &[crate::belief::CellBelief]) {
+        if let Some(layer) = self.beliefs.as_mut() {
+            layer.set_beliefs(beliefs);
+        }
     }
 
     pub(crate) fn set_stats(&mut self, stats: &[CellStats], counters: MapCounters) {
@@ -391,6 +442,9 @@ impl FeatureMap {
     }
 
     fn classify(&mut self, index: usize) -> Base {
+        if let Some(layer) = &self.beliefs {
+            return self.classify_by_belief(index, layer.class(index));
+        }
         let stats = self.stats[index];
         // The jumper's high features count only where enough of its clouds agree: a distorted
         // cloud (a keyframe pair with a wrong relative pose) reads bare ground as high
@@ -428,6 +482,67 @@ impl FeatureMap {
             class,
             support,
             high,
+        }
+    }
+
+    /// The `traversability` model's base class: the belief decides rocks; features decide
+    /// whether the cell was observed at all.
+    fn classify_by_belief(&self, index: usize, belief: BeliefClass) -> Base {
+        let stats = &self.stats[index];
+        let class = match belief {
+            BeliefClass::Lethal => BaseClass::Obstacle,
+            _ if self.is_flank_of_lethal(index) => BaseClass::Obstacle,
+            BeliefClass::Uncertain => BaseClass::Uncertain,
+            BeliefClass::Traversable | BeliefClass::Unknown => {
+                if stats.count >= self.thresholds.min_free_support {
+                    BaseClass::Free
+                } else {
+                    BaseClass::Unknown
+                }
+            }
+        };
+        Base {
+            class,
+            support: stats.count,
+            high: 0,
+        }
+    }
+
+    /// The cell stands confidently above half the climb limit next to a lethal cell: the
+    /// flank of the same rock (a rock is about half as tall as it is wide, so its footprint
+    /// reaches well beyond the part that is too tall), which the rover's body must not touch.
+    fn is_flank_of_lethal(&self, index: usize) -> bool {
+        let Some(layer) = &self.beliefs else {
+            return false;
+        };
+        let Some(belief) = layer.belief(index) else {
+            return false;
+        };
+        let flank_m = 0.5 * layer.climb_limit_m();
+        // A flank that the evidence refuted (rays passed under it) is no flank.
+        if belief.top_count == 0
+            || belief.top_m - belief.top_sigma_m() < flank_m
+            || belief.ray_cleared
+        {
+            return false;
+        }
+        let (x, y) = self.geometry.coords(index);
+        let (x0, y0, x1, y1) = self.geometry.window(x, y, 1);
+        (y0..=y1).any(|ny| {
+            (x0..=x1).any(|nx| {
+                let neighbour = self.geometry.index(nx, ny);
+                neighbour != index && layer.class(neighbour) == BeliefClass::Lethal
+            })
+        })
+    }
+
+    fn reclassify_neighbours(&mut self, index: usize) {
+        let (x, y) = self.geometry.coords(index);
+        let (x0, y0, x1, y1) = self.geometry.window(x, y, 1);
+        for ny in y0..=y1 {
+            for nx in x0..=x1 {
+                self.reclassify.insert(self.geometry.index(nx, ny));
+            }
         }
     }
 
@@ -512,10 +627,13 @@ impl FeatureMap {
                 lethal |= entry.lethal;
             }
         }
+        if base.class == BaseClass::Uncertain {
+            extra_cost = extra_cost.max(self.thresholds.uncertain_cost);
+        }
         let class = match (extra_cost > 0, base.class) {
             _ if lethal => CellClass::Lethal,
             (true, _) => CellClass::Inflated,
-            (false, BaseClass::Free) => CellClass::Free,
+            (false, BaseClass::Free | BaseClass::Uncertain) => CellClass::Free,
             (false, _) => CellClass::Unknown,
         };
         CellState {

@@ -262,10 +262,15 @@ impl Process for MapperProcess {
         Ok(())
     }
 
+    /// Samples refused whole, and points refused inside accepted clouds (non-finite, or a
+    /// sigma that cannot weigh them).
     fn rejected_samples(&self) -> u64 {
+        let points = self.map.counters();
         self.jumper_clouds.rejected().total()
             + self.rover_clouds.rejected().total()
             + self.wrong_robot_clouds
+            + points.non_finite
+            + points.bad_sigma
     }
 
     fn stop(&mut self, _context: &ProcessContext) {

@@ -25,12 +25,13 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::belief::CellBelief;
 use crate::cell::CellStats;
 use crate::geometry::GridGeometry;
 use crate::map::{FeatureMap, MapCounters};
 
-/// Version of the snapshot layout; bump when [`CellStats`] changes.
-pub const SNAPSHOT_VERSION: u32 = 2;
+/// Version of the snapshot layout; bump when [`CellStats`] or [`CellBelief`] changes.
+pub const SNAPSHOT_VERSION: u32 = 3;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]
@@ -76,6 +77,8 @@ struct SnapshotRef<'a> {
     geometry: GridGeometry,
     counters: MapCounters,
     stats: &'a [CellStats],
+    /// The `traversability` model's beliefs (empty under the `features` model).
+    beliefs: &'a [CellBelief],
 }
 
 #[derive(Deserialize)]
@@ -84,11 +87,19 @@ struct SnapshotOwned {
     geometry: GridGeometry,
     counters: MapCounters,
     stats: Vec<CellStats>,
+    beliefs: Vec<CellBelief>,
 }
 
 /// Encodes the map's statistics into `buffer` (cleared first; its allocation is reused).
 pub fn encode(map: &FeatureMap, buffer: &mut Vec<u8>) -> Result<(), SnapshotError> {
-    encode_parts(map.geometry(), map.counters(), map.stats_slice(), buffer)
+    let beliefs = map.beliefs().map_or(&[][..], |layer| layer.beliefs());
+    encode_parts(
+        map.geometry(),
+        map.counters(),
+        map.stats_slice(),
+        beliefs,
+        buffer,
+    )
 }
 
 /// Encodes a copy of a map's statistics (see [`crate::snapshot_writer`]).
@@ -96,6 +107,7 @@ pub(crate) fn encode_parts(
     geometry: &GridGeometry,
     counters: MapCounters,
     stats: &[CellStats],
+    beliefs: &[CellBelief],
     buffer: &mut Vec<u8>,
 ) -> Result<(), SnapshotError> {
     let snapshot = SnapshotRef {
@@ -103,6 +115,7 @@ pub(crate) fn encode_parts(
         geometry: *geometry,
         counters,
         stats,
+        beliefs,
     };
     hopnav_ipc::codec::encode_into(&snapshot, buffer)?;
     let limit = hopnav_ipc::codec::MAX_DECODE_BYTES;
@@ -125,13 +138,21 @@ pub fn restore(map: &mut FeatureMap, bytes: &[u8]) -> Result<(), SnapshotError> 
         });
     }
     let expected = *map.geometry();
-    if snapshot.geometry != expected || snapshot.stats.len() != expected.cell_count() {
+    let beliefs_fit =
+        snapshot.beliefs.is_empty() || snapshot.beliefs.len() == expected.cell_count();
+    if snapshot.geometry != expected
+        || snapshot.stats.len() != expected.cell_count()
+        || !beliefs_fit
+    {
         return Err(SnapshotError::Geometry {
             found: snapshot.geometry,
             expected,
         });
     }
     map.set_stats(&snapshot.stats, snapshot.counters);
+    // A snapshot of the other obstacle model has no beliefs (or the map keeps none): the
+    // beliefs then start empty and the statistics alone come back.
+    map.set_beliefs(&snapshot.beliefs);
     Ok(())
 }
 

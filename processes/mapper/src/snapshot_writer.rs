@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
 use std::thread::JoinHandle;
 
+use crate::belief::CellBelief;
 use crate::cell::CellStats;
 use crate::map::FeatureMap;
 use crate::snapshot;
@@ -18,6 +19,7 @@ struct Job {
     geometry: crate::geometry::GridGeometry,
     counters: crate::map::MapCounters,
     stats: Vec<CellStats>,
+    beliefs: Vec<CellBelief>,
     bytes: Vec<u8>,
 }
 
@@ -52,6 +54,7 @@ impl SnapshotWriter {
                         &job.geometry,
                         job.counters,
                         &job.stats,
+                        &job.beliefs,
                         &mut job.bytes,
                     )
                     .and_then(|()| snapshot::write_file(&path, &job.bytes));
@@ -72,6 +75,9 @@ impl SnapshotWriter {
                 geometry: *map.geometry(),
                 counters: map.counters(),
                 stats: vec![CellStats::default(); cells],
+                beliefs: map
+                    .beliefs()
+                    .map_or_else(Vec::new, |layer| layer.beliefs().to_vec()),
                 bytes: Vec::with_capacity(size_of_val(map.stats_slice()) + 4096),
             }),
             worker: Some(worker),
@@ -96,6 +102,11 @@ impl SnapshotWriter {
             return false;
         }
         job.stats.copy_from_slice(map.stats_slice());
+        if let Some(layer) = map.beliefs()
+            && layer.beliefs().len() == job.beliefs.len()
+        {
+            job.beliefs.copy_from_slice(layer.beliefs());
+        }
         job.geometry = *map.geometry();
         job.counters = map.counters();
         match to_worker.try_send(job) {

@@ -41,6 +41,11 @@ pub struct NavigatorConfig {
     /// The cell this far ahead of a stuck rover is marked as an obstacle, metres (half the
     /// chassis length plus a little).
     pub bump_reach_m: f64,
+    /// Cells whose centre lies within this of a bumped cell's centre are marked with it, so
+    /// the next search keeps the rover's body clear of the rock as the mapper's lethal margin
+    /// would (a path one cell over brushed the same rock again), metres. 0.75 m marks the
+    /// eight neighbours of a 0.5 m cell, a three-cell disc of 0.25 m cells.
+    pub bump_ring_m: f64,
     /// Driving on, the rover stops and backs off when its tilt (from the VO attitude, whose
     /// roll and pitch come from the IMU) exceeds this, and the cell ahead is marked: a crater
     /// wall is no obstacle to the mapper (nothing stands above the local ground) but wedges
@@ -66,6 +71,7 @@ impl Default for NavigatorConfig {
             back_off_m: 0.6,
             back_off_timeout_s: 5.0,
             bump_reach_m: 0.8,
+            bump_ring_m: 0.75,
             max_safe_tilt_rad: 22f64.to_radians(),
             scout: ScoutConfig::default(),
         }
@@ -107,7 +113,7 @@ impl Default for ScoutConfig {
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 18] = [
+        let checks: [(&str, f64, f64, f64, &'static str); 19] = [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
             (
                 "no_progress_time_s",
@@ -133,6 +139,7 @@ impl NavigatorConfig {
                 "0.1..=600",
             ),
             ("bump_reach_m", self.bump_reach_m, 0.1, 10.0, "0.1..=10"),
+            ("bump_ring_m", self.bump_ring_m, 0.0, 5.0, "0..=5"),
             (
                 "max_safe_tilt_rad",
                 self.max_safe_tilt_rad,

@@ -7,7 +7,7 @@ use super::geometry::MapGeometry;
 use super::route_change::route_moved;
 use super::scout::{self, ScoutDecision, distance_m};
 use super::scout_batch::{SCOUT_BATCH_URGENT_AHEAD_M, ScoutBatch};
-use crate::cost::{Cost, MOVES, neighbour, path_cost};
+use crate::cost::{Cost, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
 
@@ -131,9 +131,9 @@ pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;
 
-/// Bumped cells remembered (a bounded list: a mission bumps a handful of times, nine cells
-/// each).
-const MAX_BUMPED_CELLS: usize = 1024;
+/// Bumped cells remembered (a bounded list: a mission bumps a handful of times, up to about
+/// thirty cells each on a fine grid).
+const MAX_BUMPED_CELLS: usize = 4096;
 
 /// The rover's navigator.
 pub struct Navigator {
@@ -515,9 +515,20 @@ impl Navigator {
         if !self.mark_bumped_cell(centre, rover_cell) {
             return false;
         }
-        for step in MOVES {
-            if let Some(cell) = neighbour(self.planner.grid(), centre, step) {
-                self.mark_bumped_cell(cell, rover_cell);
+        let cell_size_m = self.geometry.cell_size_m();
+        let reach = (self.config.bump_ring_m / cell_size_m).ceil() as i64;
+        for dy in -reach..=reach {
+            for dx in -reach..=reach {
+                let within =
+                    (dx as f64).hypot(dy as f64) * cell_size_m <= self.config.bump_ring_m + 1e-9;
+                let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
+                if (dx, dy) == (0, 0) || !within || x < 0 || y < 0 {
+                    continue;
+                }
+                let cell = Cell::new(x as u32, y as u32);
+                if self.planner.grid().index_of(cell).is_some() {
+                    self.mark_bumped_cell(cell, rover_cell);
+                }
             }
         }
         self.counters.blocked_marks += 1;

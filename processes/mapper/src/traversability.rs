@@ -1,0 +1,121 @@
+//! The `traversability` obstacle model's state in the map: a [`CellBelief`] per cell, fed
+//! with every accepted point's height and sigma and with the free space its ray crossed.
+//!
+//! Memory is one fixed array, allocated with the map.
+
+use crate::belief::{BeliefClass, BeliefParams, CellBelief};
+use crate::config::MapperConfig;
+use crate::dirty::DirtySet;
+use crate::geometry::GridGeometry;
+use crate::rays::for_each_cell_below;
+
+/// Rays are followed only where they run lower than this above the ground, metres: a rock
+/// the map claims taller than that is not cleared by rays (none of the Golombek rocks the
+/// rover meets is).
+const RAY_MAX_HEIGHT_M: f64 = 2.0;
+
+/// Per-cell beliefs of the whole grid.
+#[derive(Debug)]
+pub struct BeliefLayer {
+    params: BeliefParams,
+    sigma_floor_m: f32,
+    beliefs: Vec<CellBelief>,
+    rays_counted: u64,
+}
+
+impl BeliefLayer {
+    /// Unknown everywhere, for `cells` cells, with the rover's climb limit of `config`.
+    pub fn new(config: &MapperConfig, cells: usize) -> Self {
+        Self {
+            params: BeliefParams::new(config.rover_body.max_climbable_height_m),
+            sigma_floor_m: config.height_sigma_floor_m as f32,
+            beliefs: vec![CellBelief::default(); cells],
+            rays_counted: 0,
+        }
+    }
+
+    /// A point of cloud `cloud` in cell `index`, `height_m` above its local ground, with a
+    /// one-sigma height uncertainty `sigma_m` (raised to the configured floor).
+    pub fn add_point(&mut self, index: usize, cloud: u32, height_m: f32, sigma_m: f32) {
+        let sigma_m = sigma_m.hypot(self.sigma_floor_m);
+        if let Some(belief) = self.beliefs.get_mut(index) {
+            belief.add_point(&self.params, cloud, height_m, sigma_m);
+        }
+    }
+
+    /// The ray of cloud `cloud` from `camera_m` to `point_m` (whose local ground is at
+    /// `ground_z_m`) crossed the cells before the point: a miss for each whose claimed top it
+    /// passed under. The cells whose belief changed go into `touched`.
+    pub fn add_ray(
+        &mut self,
+        geometry: &GridGeometry,
+        camera_m: [f64; 3],
+        point_m: [f64; 3],
+        ground_z_m: f64,
+        cloud: u32,
+        touched: &mut DirtySet,
+    ) {
+        let (params, beliefs) = (&self.params, &mut self.beliefs);
+        let mut counted = 0;
+        for_each_cell_below(
+            geometry,
+            camera_m,
+            point_m,
+            ground_z_m,
+            RAY_MAX_HEIGHT_M,
+            |index, ray_height_m| {
+                if let Some(belief) = beliefs.get_mut(index)
+                    && belief.add_ray(params, cloud, ray_height_m)
+                {
+                    touched.insert(index);
+                    counted += 1;
+                }
+            },
+        );
+        self.rays_counted += counted;
+    }
+
+    /// What the belief says of cell `index` (unknown outside the grid).
+    pub fn class(&self, index: usize) -> BeliefClass {
+        self.beliefs
+            .get(index)
+            .map_or(BeliefClass::Unknown, |belief| belief.class(&self.params))
+    }
+
+    /// The belief of cell `index`.
+    pub fn belief(&self, index: usize) -> Option<&CellBelief> {
+        self.beliefs.get(index)
+    }
+
+    /// The rover's climb limit the beliefs judge against, metres.
+    pub fn climb_limit_m(&self) -> f32 {
+        self.params.climb_limit_m
+    }
+
+    /// Ray crossings that counted as a miss so far.
+    pub fn rays_counted(&self) -> u64 {
+        self.rays_counted
+    }
+
+    /// Every cell's belief, for snapshots.
+    pub fn beliefs(&self) -> &[CellBelief] {
+        &self.beliefs
+    }
+
+    /// Restores the beliefs of a snapshot (same length as the grid; a shorter or longer one
+    /// is refused by the caller).
+    pub fn set_beliefs(&mut self, beliefs: &[CellBelief]) {
+        if beliefs.len() == self.beliefs.len() {
+            self.beliefs.copy_from_slice(beliefs);
+        }
+    }
+
+    /// Bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.beliefs.capacity() * size_of::<CellBelief>()
+    }
+}
+
+#[cfg(test)]
+#[path = "traversability_tests.rs"]
+mod tests;

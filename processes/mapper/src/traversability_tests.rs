@@ -1,0 +1,205 @@
+//! The `traversability` model in the whole map: clouds in, classes out.
+
+use hopnav_ipc::messages::{CellClass, FeaturePoint, Robot};
+
+use crate::config::{MapperConfig, ObstacleModel};
+use crate::geometry::GridGeometry;
+use crate::map::FeatureMap;
+
+fn config() -> MapperConfig {
+    MapperConfig {
+        obstacle_model: ObstacleModel::Traversability,
+        cell_size_m: 0.25,
+        ..MapperConfig::default()
+    }
+}
+
+fn map() -> FeatureMap {
+    let config = config();
+    let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
+    FeatureMap::new(&config, geometry)
+}
+
+fn point(x: f32, y: f32, z: f32, height_m: f32, sigma_m: f32) -> FeaturePoint {
+    FeaturePoint {
+        position_m: [x, y, z],
+        height_above_ground_m: height_m,
+        depth_sigma_m: sigma_m,
+        ..FeaturePoint::default()
+    }
+}
+
+/// A rover stereo cloud of flat ground on a 5 cm lattice over `[x0, x1] × [y0, y1]`, with
+/// round rocks `(centre, radius, height)` standing on it (a dome of that height).
+fn rover_cloud(
+    x_range: (f32, f32),
+    y_range: (f32, f32),
+    rocks: &[([f32; 2], f32, f32)],
+) -> Vec<FeaturePoint> {
+    let mut cloud = Vec::new();
+    let steps = |(lo, hi): (f32, f32)| ((hi - lo) / 0.05).round() as i32;
+    for i in 0..=steps(x_range) {
+        for j in 0..=steps(y_range) {
+            let (x, y) = (x_range.0 + 0.05 * i as f32, y_range.0 + 0.05 * j as f32);
+            let mut height_m = 0.0f32;
+            for &([cx, cy], radius_m, rock_height_m) in rocks {
+                let r = (x - cx).hypot(y - cy);
+                if r < radius_m {
+                    height_m = height_m.max(rock_height_m * (1.0 - (r / radius_m).powi(2)).sqrt());
+                }
+            }
+            cloud.push(point(x, y, height_m, height_m, 0.02));
+        }
+    }
+    cloud
+}
+
+fn class_at(map: &FeatureMap, x_m: f64, y_m: f64) -> CellClass {
+    let (x, y) = map.geometry().cell_of(x_m, y_m).expect("inside");
+    map.cell_state(x, y).expect("cell").class
+}
+
+fn geometry_of(map: &FeatureMap) -> GridGeometry {
+    *map.geometry()
+}
+
+#[test]
+fn a_climbable_rock_on_a_slope_stays_traversable() {
+    // 10° slope along x; a 0.18 m rock at (1, 1). Heights unknown (a monocular cloud): the
+    // map judges them against the ground plane it fits to the neighbourhood.
+    let mut map = map();
+    let slope = 10f32.to_radians().tan();
+    let mut cloud = Vec::new();
+    for i in 0..60 {
+        for j in 0..60 {
+            let (x, y) = (-0.5 + 0.05 * i as f32, -0.5 + 0.05 * j as f32);
+            let r = (x - 1.0).hypot(y - 1.0);
+            let rock_m = if r < 0.3 {
+                0.18 * (1.0 - (r / 0.3).powi(2)).sqrt()
+            } else {
+                0.0
+            };
+            cloud.push(point(x, y, slope * x + rock_m, f32::NAN, 0.01));
+        }
+    }
+    for _ in 0..4 {
+        map.insert_cloud(Robot::Jumper, &cloud);
+        map.update();
+    }
+    assert_eq!(class_at(&map, 1.0, 1.0), CellClass::Free);
+    // With measured heights (the rover's stereo), the same.
+    let mut measured = self::map();
+    for _ in 0..4 {
+        measured.insert_cloud(
+            Robot::Rover,
+            &rover_cloud((0.0, 2.0), (0.0, 2.0), &[([1.0, 1.0], 0.3, 0.18)]),
+        );
+        measured.update();
+    }
+    assert_eq!(class_at(&measured, 1.0, 1.0), CellClass::Free);
+}
+
+#[test]
+fn an_unclimbable_rock_becomes_a_lethal_disc_of_about_the_inscribed_radius() {
+    let mut map = map();
+    let rock = ([1.0, 1.0], 0.25, 0.25);
+    for _ in 0..3 {
+        map.insert_cloud(
+            Robot::Rover,
+            &rover_cloud((-1.5, 3.5), (-1.5, 3.5), &[rock]),
+        );
+        map.update();
+    }
+    assert_eq!(class_at(&map, 1.0, 1.0), CellClass::Obstacle);
+    let inscribed_m = config().rover_body.inscribed_radius_m();
+    // Centres within the inscribed radius of the rock's edge are lethal…
+    for angle in [0.0f64, 1.0, 2.0, 3.0, 4.0, 5.0] {
+        let r_m = 0.25 + 0.6 * inscribed_m;
+        let class = class_at(&map, 1.0 + r_m * angle.cos(), 1.0 + r_m * angle.sin());
+        assert!(
+            matches!(class, CellClass::Lethal | CellClass::Obstacle),
+            "{class:?} at {angle} rad"
+        );
+    }
+    // … and ground a body length away is not.
+    for angle in [0.0f64, 1.5, 3.0, 4.5] {
+        let r_m = 0.25 + inscribed_m + 0.6;
+        let class = class_at(&map, 1.0 + r_m * angle.cos(), 1.0 + r_m * angle.sin());
+        assert!(
+            matches!(class, CellClass::Free | CellClass::Inflated),
+            "{class:?} at {angle} rad"
+        );
+    }
+    // The lethal area is a disc around the rock, not a block of the old 3×3 cells.
+    let cell_m2 = 0.0625;
+    let lethal_m2 = (0..geometry_of(&map).height_cells)
+        .flat_map(|y| (0..geometry_of(&map).width_cells).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            matches!(
+                map.cell_state(x, y).map(|c| c.class),
+                Some(CellClass::Lethal | CellClass::Obstacle)
+            )
+        })
+        .count() as f64
+        * cell_m2;
+    let true_m2 = std::f64::consts::PI * (0.25 + inscribed_m).powi(2);
+    assert!(
+        lethal_m2 < 1.8 * true_m2,
+        "lethal {lethal_m2:.2} m² for a true {true_m2:.2} m²"
+    );
+}
+
+#[test]
+fn a_false_wall_from_one_misplaced_jumper_cloud_is_cleared_by_rover_stereo() {
+    let mut map = map();
+    // Two jumper clouds (a bad keyframe and its neighbour) draw a 0.6 m wall across x = 2.
+    let wall: Vec<FeaturePoint> = (0..40)
+        .map(|i| point(2.0, -1.0 + 0.05 * i as f32, 0.6, 0.6, 0.02))
+        .collect();
+    map.insert_cloud(Robot::Jumper, &wall);
+    map.insert_cloud(Robot::Jumper, &wall);
+    map.update();
+    assert_eq!(class_at(&map, 2.0, 0.0), CellClass::Obstacle);
+    // The rover, 1 m up at x = 0, sees the bare ground behind it, cloud after cloud.
+    let ground = rover_cloud((2.4, 3.5), (-1.5, 1.5), &[]);
+    for _ in 0..6 {
+        map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &ground);
+        map.update();
+    }
+    let class = class_at(&map, 2.0, 0.0);
+    assert!(
+        !matches!(class, CellClass::Obstacle | CellClass::Lethal),
+        "the wall stayed: {class:?}"
+    );
+    assert!(map.beliefs().expect("traversability").rays_counted() > 0);
+}
+
+#[test]
+fn a_single_bad_cloud_never_makes_a_lethal_cell() {
+    let mut map = map();
+    let spike: Vec<FeaturePoint> = (0..30).map(|_| point(0.6, 0.6, 1.0, 1.0, 0.02)).collect();
+    map.insert_cloud(Robot::Jumper, &spike);
+    map.update();
+    assert_ne!(class_at(&map, 0.6, 0.6), CellClass::Obstacle);
+}
+
+#[test]
+fn bad_points_are_refused_and_counted_never_a_panic() {
+    let mut map = map();
+    let cloud = [
+        point(f32::NAN, 0.0, 0.0, 0.0, 0.02),
+        point(0.0, f32::INFINITY, 0.0, 0.0, 0.02),
+        point(0.0, 0.0, 0.0, f32::INFINITY, 0.02),
+        point(0.0, 0.0, 0.3, 0.3, 0.0),
+        point(0.0, 0.0, 0.3, 0.3, -0.1),
+        point(500.0, 0.0, 0.0, 0.0, 0.02),
+        point(0.0, 0.0, 0.0, 0.0, 0.02),
+    ];
+    let accepted = map.insert_cloud_seen_from(Robot::Rover, Some([f64::NAN, 0.0, 1.0]), &cloud);
+    map.update();
+    let counters = map.counters();
+    assert_eq!(accepted, 1);
+    assert_eq!(counters.non_finite, 3);
+    assert_eq!(counters.bad_sigma, 2);
+    assert_eq!(counters.outside_grid, 1);
+}

@@ -264,6 +264,12 @@ fn print_paired(sets: &[RunSet], targets: Option<&Targets>) {
         return;
     };
     let mut out = std::io::stdout().lock();
+    for set in sets {
+        let _ = writeln!(out);
+        for line in crate::compare_quality::quality_lines(set) {
+            let _ = writeln!(out, "{line}");
+        }
+    }
     let all = comparisons(base, variants);
     for comparison in &all {
         let _ = writeln!(out);

@@ -24,6 +24,10 @@ pub enum EvalCommand {
     /// height, how many rock points the mapper's rule calls high. Writes
     /// eval_jumper_clouds.json.
     JumperClouds(crate::jumper_clouds_cmd::JumperCloudsArgs),
+    /// Rover-only missions at k = 0.07, 0.10, 0.13, 0.16: the final map's ground lethal for
+    /// the rover's centre near its track against the rocks' (blocked-area ratio), truly lethal
+    /// cells left traversable and false lethal cells, median and worst per k; a map PNG per k.
+    Traversability(crate::eval_traversability_cmd::TraversabilityArgs),
 }
 
 #[derive(Debug, Args)]
@@ -44,6 +48,7 @@ pub fn run(command: EvalCommand) -> ExitCode {
     match command {
         EvalCommand::RoverVo(args) => crate::rover_vo_cmd::eval(args),
         EvalCommand::JumperClouds(args) => crate::jumper_clouds_cmd::run(args),
+        EvalCommand::Traversability(args) => crate::eval_traversability_cmd::run(args),
         EvalCommand::Vo(args) => match match &args.dataset {
             Some(dataset) => vo_dataset(dataset, &args.out),
             None => vo(&args),

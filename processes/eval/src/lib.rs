@@ -7,6 +7,7 @@
 //! - [`full_knowledge`]: planning on a map known in full, with the planner's costs;
 //! - [`map_accuracy`]: obstacle cells against rocks;
 //! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
+//! - [`traversability`]: the ground the map blocks near the track against the rocks';
 //! - [`figure`]: the mission's Fig.-6 map;
 //! - [`evaluator`]: the [`hopnav_supervisor::MissionEvaluator`] `hopnav launch` passes in.
 //!
@@ -18,6 +19,7 @@ pub mod figure;
 pub mod full_knowledge;
 pub mod map_accuracy;
 pub mod mission;
+pub mod traversability;
 pub mod vo_accuracy;
 
 pub use evaluator::TruthEvaluator;

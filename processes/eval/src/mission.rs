@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
+use crate::traversability::{BlockedArea, MapCell, blocked_area};
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
@@ -48,6 +49,9 @@ pub struct MissionEvaluation {
     /// Each robot's VO against the truth of the same frames.
     #[serde(default)]
     pub vo: Vec<VoAccuracy>,
+    /// The ground the map shuts the rover's centre out of near its track, against the truth.
+    #[serde(default)]
+    pub blocked_area: Option<BlockedArea>,
 }
 
 impl MissionEvaluation {
@@ -111,6 +115,20 @@ impl MissionEvaluation {
                 report.executed_path_m - built_m
             )?;
         }
+        if let Some(blocked) = &self.blocked_area {
+            writeln!(
+                out,
+                "ground lethal for the rover's centre near its track: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}",
+                blocked.mapped_lethal_m2,
+                blocked.true_lethal_m2,
+                blocked
+                    .blocked_area_ratio
+                    .map_or("-".to_owned(), |ratio| format!("{ratio:.2}")),
+                blocked.missed_lethal_cells,
+                blocked.true_lethal_cells,
+                blocked.false_lethal_cells
+            )?;
+        }
         for vo in &self.vo {
             writeln!(
                 out,
@@ -141,6 +159,8 @@ pub struct MissionTruth {
     pub traversable_height_m: f64,
     /// The rover's climb limit, metres.
     pub climbable_height_m: f64,
+    /// The rover's inscribed radius, metres.
+    pub inscribed_m: f64,
     /// The mapper's grid and inflation (`None` when its config is invalid).
     pub mapper: Option<MapperConfig>,
 }
@@ -173,6 +193,7 @@ impl MissionTruth {
                 .map_or(MapperConfig::default(), Clone::clone)
                 .traversable_height_m,
             climbable_height_m: body.max_climbable_height_m,
+            inscribed_m: body.inscribed_radius_m(),
             mapper,
         })
     }
@@ -214,7 +235,42 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .iter()
             .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
             .collect(),
+        blocked_area: rocks.and_then(|rocks| {
+            let map = record.map.as_ref()?;
+            Some(judge_blocked_area(truth, map, &record.rover_track_m, rocks))
+        }),
     }
+}
+
+/// The final map's lethal ground near the rover's track against the rocks'.
+fn judge_blocked_area(
+    truth: &MissionTruth,
+    map: &RecordedMap,
+    rover_track_m: &[(f64, f64)],
+    rocks: &[RockFootprint],
+) -> BlockedArea {
+    let size_m = map.cell_size_m;
+    let cells: Vec<MapCell> = map
+        .cells
+        .iter()
+        .filter(|cell| cell.class != CellClass::Unknown)
+        .map(|cell| MapCell {
+            centre_m: [
+                map.origin_m.0 + (f64::from(cell.x) + 0.5) * size_m,
+                map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
+            ],
+            lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
+        })
+        .collect();
+    let track_m: Vec<[f64; 2]> = rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
+    blocked_area(
+        &cells,
+        rocks,
+        &track_m,
+        size_m,
+        truth.climbable_height_m,
+        truth.inscribed_m,
+    )
 }
 
 /// The planner's path from A to B had it known from the start every rock the rover cannot

@@ -1,0 +1,100 @@
+//! Per set and mode of `hopnav compare`: how often the rover got to B, how often it hit a
+//! rock, how its drive compares with the full-knowledge path, and how much ground its map
+//! blocked against what the rocks block (median and worst over the seeds, never a mean
+//! alone).
+
+use hopnav_config::MissionMode;
+use hopnav_eval::MissionEvaluation;
+
+use crate::compare_rows::RunSet;
+
+/// Median and largest of `values` (`None` when empty).
+pub fn median_and_worst(values: &mut [f64]) -> Option<(f64, f64)> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let middle = values.len() / 2;
+    let median = if values.len().is_multiple_of(2) {
+        0.5 * (values[middle - 1] + values[middle])
+    } else {
+        values[middle]
+    };
+    Some((median, values[values.len() - 1]))
+}
+
+fn spread(values: &mut [f64], unit: &str) -> String {
+    median_and_worst(values).map_or("-".to_owned(), |(median, worst)| {
+        format!("median {median:.2}{unit}, worst {worst:.2}{unit}")
+    })
+}
+
+/// The lines for one set, a line per mode that ran.
+pub fn quality_lines(set: &RunSet) -> Vec<String> {
+    let mut lines = Vec::new();
+    for mode in [MissionMode::RoverOnly, MissionMode::Cooperative] {
+        let rows: Vec<_> = set
+            .rows
+            .iter()
+            .filter(|row| row.mode == mode.name())
+            .collect();
+        if rows.is_empty() {
+            continue;
+        }
+        let missions: Vec<_> = rows.iter().filter_map(|row| row.mission.as_ref()).collect();
+        let reached = missions.iter().filter(|m| m.goal_reached).count();
+        let collisions: u32 = missions.iter().map(|m| m.collisions).sum();
+        let evaluations: Vec<_> = missions
+            .iter()
+            .map(|mission| (mission, MissionEvaluation::of(mission)))
+            .collect();
+        let mut path_over_best: Vec<f64> = evaluations
+            .iter()
+            .filter(|(mission, _)| mission.goal_reached)
+            .filter_map(|(mission, evaluation)| {
+                let best_m = evaluation.full_knowledge_path_m?;
+                (best_m > 0.0).then(|| mission.executed_path_m / best_m)
+            })
+            .collect();
+        let mut best_m: Vec<f64> = evaluations
+            .iter()
+            .filter_map(|(_, evaluation)| evaluation.full_knowledge_path_m)
+            .collect();
+        let mut ratios: Vec<f64> = evaluations
+            .iter()
+            .filter_map(|(_, evaluation)| evaluation.blocked_area?.blocked_area_ratio)
+            .collect();
+        let mut missed: Vec<f64> = evaluations
+            .iter()
+            .filter_map(|(_, evaluation)| evaluation.blocked_area?.missed_lethal_percent())
+            .collect();
+        lines.push(format!(
+            "{} {}: reached B {reached}/{}, {collisions} collisions ({:.2} per mission); executed / full-knowledge path {} over the seeds it reached; full-knowledge path {}; blocked-area ratio (map / rocks) {}; truly lethal cells left traversable {}",
+            set.label,
+            mode.name(),
+            rows.len(),
+            f64::from(collisions) / missions.len().max(1) as f64,
+            spread(&mut path_over_best, "×"),
+            spread(&mut best_m, " m"),
+            spread(&mut ratios, ""),
+            spread(&mut missed, " %"),
+        ));
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_median_of_an_even_count_is_the_mean_of_the_middle_two() {
+        assert_eq!(
+            median_and_worst(&mut [3.0, 1.0, 2.0, 10.0]),
+            Some((2.5, 10.0))
+        );
+        assert_eq!(median_and_worst(&mut [2.0]), Some((2.0, 2.0)));
+        assert_eq!(median_and_worst(&mut []), None);
+        assert_eq!(spread(&mut [], " m"), "-");
+    }
+}

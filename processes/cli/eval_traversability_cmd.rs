@@ -1,0 +1,220 @@
+//! `hopnav eval traversability`: rover-only missions at k = 0.07, 0.10, 0.13 and 0.16, and
+//! how much ground each final map shuts the rover's centre out of near its track against
+//! what the rocks really block (blocked-area ratio), how many truly lethal cells it left
+//! traversable, and how many it called lethal wrongly; a map figure per k.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use hopnav_config::MissionMode;
+use hopnav_eval::{MissionEvaluation, TruthEvaluator};
+use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
+use serde::Serialize;
+
+use crate::compare_quality::median_and_worst;
+use crate::compare_variant::{RunSetPlan, mission_config};
+use crate::registry;
+
+/// The rock abundances the targets are set at (Golombek k).
+const ABUNDANCES: [f64; 4] = [0.07, 0.10, 0.13, 0.16];
+
+#[derive(Debug, Args)]
+pub struct TraversabilityArgs {
+    /// TOML file overriding the embedded defaults (e.g. `[mapper] obstacle_model =
+    /// "traversability"`); seed, k and mode are set per mission.
+    config: Option<PathBuf>,
+    /// Seeded terrains per k.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    seeds: u64,
+    /// World seed of the first terrain.
+    #[arg(long, default_value_t = 1)]
+    first_seed: u64,
+    /// Frame limit of each mission (it ends earlier at the goal).
+    #[arg(long, default_value_t = 2400, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    frames: u64,
+    /// Folder for the run folders, eval_traversability.json and a map PNG per k.
+    #[arg(long, default_value = "runs/eval-traversability")]
+    out: PathBuf,
+}
+
+/// One mission's figures.
+#[derive(Debug, Clone, Serialize)]
+struct MissionRow {
+    golombek_k: f64,
+    seed: u64,
+    run_dir: String,
+    goal_reached: bool,
+    collisions: u32,
+    blocked_area_ratio: Option<f64>,
+    missed_lethal_percent: Option<f64>,
+    false_lethal_cells: Option<usize>,
+    judged_cells: Option<usize>,
+}
+
+pub fn run(args: TraversabilityArgs) -> ExitCode {
+    let loaded = match &args.config {
+        Some(path) => hopnav_config::load_file(path),
+        None => hopnav_config::load(None),
+    };
+    let base = match loaded
+        .map_err(|error| error.to_string())
+        .and_then(|config| {
+            registry::check_sections(&config).map_err(|error| error.to_string())?;
+            Ok(config)
+        }) {
+        Ok(config) => config,
+        Err(error) => {
+            eprintln!("error: {error}");
+            return ExitCode::from(crate::EXIT_CONFIG);
+        }
+    };
+    if let Err(error) = std::fs::create_dir_all(&args.out) {
+        eprintln!("error: cannot create {}: {error}", args.out.display());
+        return ExitCode::FAILURE;
+    }
+    let executable = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(error) => {
+            eprintln!("error: cannot find the hopnav executable: {error}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let plan = RunSetPlan {
+        label: "traversability".into(),
+        out: args.out.clone(),
+        config: base,
+        modes: vec![MissionMode::RoverOnly],
+    };
+    let total = ABUNDANCES.len() as u64 * args.seeds;
+    let mut rows = Vec::new();
+    for k in ABUNDANCES {
+        for seed in args.first_seed..args.first_seed + args.seeds {
+            eprintln!(
+                "[{}/{total}] k {k:.2}, seed {seed}, rover-only ...",
+                rows.len() + 1
+            );
+            let options = LaunchOptions {
+                config: mission_config(&plan, args.frames, seed, k, MissionMode::RoverOnly),
+                executable: executable.clone(),
+                known_processes: registry::names(),
+                run_id: None,
+                show_status: false,
+                evaluator: Some(std::sync::Arc::new(TruthEvaluator)),
+            };
+            match launch(options) {
+                Err(LaunchError::Interrupted) => return finish(&args, &rows, true),
+                Err(error) => eprintln!("  launch failed: {error}"),
+                Ok(outcome) => {
+                    let row = mission_row(k, seed, &outcome);
+                    if seed == args.first_seed {
+                        copy_figure(&args, k, &outcome.run_dir);
+                    }
+                    eprintln!(
+                        "  blocked-area ratio {}, missed lethal {}",
+                        fmt(row.blocked_area_ratio, ""),
+                        fmt(row.missed_lethal_percent, " %")
+                    );
+                    let interrupted = outcome.interrupted;
+                    rows.push(row);
+                    if interrupted {
+                        return finish(&args, &rows, true);
+                    }
+                }
+            }
+        }
+    }
+    finish(&args, &rows, false)
+}
+
+fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) -> MissionRow {
+    let mission = outcome.report.mission.as_ref();
+    let blocked = mission.and_then(|mission| MissionEvaluation::of(mission).blocked_area);
+    MissionRow {
+        golombek_k: k,
+        seed,
+        run_dir: outcome.run_dir.display().to_string(),
+        goal_reached: mission.is_some_and(|mission| mission.goal_reached),
+        collisions: mission.map_or(0, |mission| mission.collisions),
+        blocked_area_ratio: blocked.and_then(|b| b.blocked_area_ratio),
+        missed_lethal_percent: blocked.and_then(|b| b.missed_lethal_percent()),
+        false_lethal_cells: blocked.map(|b| b.false_lethal_cells),
+        judged_cells: blocked.map(|b| b.judged_cells),
+    }
+}
+
+/// The first seed's map of each k, as `traversability_k0.07.png`.
+fn copy_figure(args: &TraversabilityArgs, k: f64, run_dir: &std::path::Path) {
+    let from = run_dir.join("mission_map.png");
+    let to = args.out.join(format!("traversability_k{k:.2}.png"));
+    if let Err(error) = std::fs::copy(&from, &to) {
+        eprintln!("warning: no map figure for k {k:.2}: {error}");
+    }
+}
+
+fn fmt(value: Option<f64>, unit: &str) -> String {
+    value.map_or("-".to_owned(), |value| format!("{value:.2}{unit}"))
+}
+
+/// Prints the table per k and writes eval_traversability.json.
+fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> ExitCode {
+    println!(
+        "\n{:>5} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12}",
+        "k",
+        "missions",
+        "reached",
+        "collisions",
+        "blocked ratio med/worst",
+        "missed % med/worst",
+        "false cells"
+    );
+    for k in ABUNDANCES {
+        let of_k: Vec<&MissionRow> = rows.iter().filter(|row| row.golombek_k == k).collect();
+        if of_k.is_empty() {
+            continue;
+        }
+        let spread = |mut values: Vec<f64>| {
+            median_and_worst(&mut values).map_or("-".to_owned(), |(median, worst)| {
+                format!("{median:.2} / {worst:.2}")
+            })
+        };
+        println!(
+            "{:>5.2} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12}",
+            k,
+            of_k.len(),
+            of_k.iter().filter(|row| row.goal_reached).count(),
+            of_k.iter().map(|row| row.collisions).sum::<u32>(),
+            spread(
+                of_k.iter()
+                    .filter_map(|row| row.blocked_area_ratio)
+                    .collect()
+            ),
+            spread(
+                of_k.iter()
+                    .filter_map(|row| row.missed_lethal_percent)
+                    .collect()
+            ),
+            of_k.iter()
+                .filter_map(|row| row.false_lethal_cells)
+                .sum::<usize>(),
+        );
+    }
+    let path = args.out.join("eval_traversability.json");
+    let written = serde_json::to_string_pretty(rows)
+        .map_err(std::io::Error::other)
+        .and_then(|text| std::fs::write(&path, text));
+    if let Err(error) = written {
+        eprintln!("error: cannot write {}: {error}", path.display());
+        return ExitCode::FAILURE;
+    }
+    println!(
+        "results: {} and traversability_k*.png in {}",
+        path.display(),
+        args.out.display()
+    );
+    if interrupted {
+        eprintln!("interrupted after {} missions", rows.len());
+        return ExitCode::from(crate::EXIT_INTERRUPTED);
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,178 @@
+//! How much ground the final map shuts the rover's centre out of, against how much the rocks
+//! really do (evaluation only).
+//!
+//! Over the cells the rover saw (mapped, not unknown) within [`NEAR_TRACK_M`] of its true
+//! track: a cell is **truly lethal** when its centre lies within the rover's inscribed radius
+//! of the footprint of a rock taller than the climb limit (the body would touch the rock
+//! whatever its heading); it is **mapped lethal** when the map makes it an obstacle or a
+//! lethal margin. The blocked-area ratio is mapped over truly lethal area (1 is perfect,
+//! the first mapper's rules gave 2–4); **missed** cells are truly lethal and mapped
+//! traversable, **false** ones mapped lethal and truly not.
+//!
+//! ```
+//! use hopnav_eval::map_accuracy::RockFootprint;
+//! use hopnav_eval::traversability::{MapCell, blocked_area};
+//! let rock = RockFootprint { center_m: [0.0, 0.0], radius_m: 0.3, height_m: 0.4 };
+//! // A 0.25 m grid around the rock, every cell mapped as the truth has it.
+//! let cells: Vec<MapCell> = (-8..8)
+//!     .flat_map(|y| (-8..8).map(move |x| (x, y)))
+//!     .map(|(x, y)| {
+//!         let centre_m = [0.125 + 0.25 * x as f64, 0.125 + 0.25 * y as f64];
+//!         MapCell { centre_m, lethal: centre_m[0].hypot(centre_m[1]) < 0.7 }
+//!     })
+//!     .collect();
+//! let result = blocked_area(&cells, &[rock], &[[0.0, -1.5], [0.0, 1.5]], 0.25, 0.2, 0.4);
+//! assert_eq!(result.blocked_area_ratio, Some(1.0));
+//! assert_eq!((result.missed_lethal_cells, result.false_lethal_cells), (0, 0));
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::map_accuracy::RockFootprint;
+
+/// Cells farther than this from the rover's true track are not judged, metres.
+pub const NEAR_TRACK_M: f64 = 5.0;
+
+/// One mapped cell as the judge needs it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapCell {
+    /// Centre, world metres.
+    pub centre_m: [f64; 2],
+    /// The map shuts the rover's centre out of it (an obstacle or a lethal margin).
+    pub lethal: bool,
+}
+
+/// The map's blocked ground against the truth's, near the rover's track.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct BlockedArea {
+    /// Mapped cells within reach of the track that were judged.
+    pub judged_cells: usize,
+    /// Of them, mapped lethal, m².
+    pub mapped_lethal_m2: f64,
+    /// Of them, truly lethal for the rover's centre, m².
+    pub true_lethal_m2: f64,
+    /// `mapped_lethal_m2 / true_lethal_m2` (`None` when nothing there is truly lethal).
+    pub blocked_area_ratio: Option<f64>,
+    /// Truly lethal cells the map left traversable.
+    pub missed_lethal_cells: usize,
+    /// Truly lethal cells judged.
+    pub true_lethal_cells: usize,
+    /// Cells mapped lethal that are not truly lethal.
+    pub false_lethal_cells: usize,
+}
+
+impl BlockedArea {
+    /// Missed lethal cells in % of the truly lethal ones (`None` without any).
+    pub fn missed_lethal_percent(&self) -> Option<f64> {
+        (self.true_lethal_cells > 0)
+            .then(|| 100.0 * self.missed_lethal_cells as f64 / self.true_lethal_cells as f64)
+    }
+}
+
+/// Judges `cells` (a grid of `cell_size_m`) within [`NEAR_TRACK_M`] of `track_m` against
+/// the `rocks` taller than `climb_limit_m`, for a rover of `inscribed_m`.
+pub fn blocked_area(
+    cells: &[MapCell],
+    rocks: &[RockFootprint],
+    track_m: &[[f64; 2]],
+    cell_size_m: f64,
+    climb_limit_m: f64,
+    inscribed_m: f64,
+) -> BlockedArea {
+    let blocking: Vec<&RockFootprint> = rocks
+        .iter()
+        .filter(|rock| rock.height_m > climb_limit_m)
+        .collect();
+    let cell_m2 = cell_size_m * cell_size_m;
+    let mut result = BlockedArea::default();
+    for cell in cells {
+        if !near_track(cell.centre_m, track_m) {
+            continue;
+        }
+        result.judged_cells += 1;
+        let truly_lethal = blocking.iter().any(|rock| {
+            let gap_m = (cell.centre_m[0] - rock.center_m[0])
+                .hypot(cell.centre_m[1] - rock.center_m[1])
+                - rock.radius_m;
+            gap_m < inscribed_m
+        });
+        if cell.lethal {
+            result.mapped_lethal_m2 += cell_m2;
+        }
+        if truly_lethal {
+            result.true_lethal_m2 += cell_m2;
+            result.true_lethal_cells += 1;
+        }
+        match (cell.lethal, truly_lethal) {
+            (false, true) => result.missed_lethal_cells += 1,
+            (true, false) => result.false_lethal_cells += 1,
+            _ => {}
+        }
+    }
+    result.blocked_area_ratio =
+        (result.true_lethal_m2 > 0.0).then(|| result.mapped_lethal_m2 / result.true_lethal_m2);
+    result
+}
+
+fn near_track(point_m: [f64; 2], track_m: &[[f64; 2]]) -> bool {
+    let reach_m2 = NEAR_TRACK_M * NEAR_TRACK_M;
+    track_m.iter().any(|p| {
+        let (dx, dy) = (p[0] - point_m[0], p[1] - point_m[1]);
+        dx * dx + dy * dy <= reach_m2
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rock(x: f64, y: f64, radius_m: f64, height_m: f64) -> RockFootprint {
+        RockFootprint {
+            center_m: [x, y],
+            radius_m,
+            height_m,
+        }
+    }
+
+    fn grid(lethal: impl Fn([f64; 2]) -> bool) -> Vec<MapCell> {
+        (-20..20)
+            .flat_map(|y| (-20..20).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let centre_m = [0.125 + 0.25 * f64::from(x), 0.125 + 0.25 * f64::from(y)];
+                MapCell {
+                    centre_m,
+                    lethal: lethal(centre_m),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_map_that_blocks_twice_the_ground_has_a_ratio_near_two_and_no_misses() {
+        let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
+        let cells = grid(|c| c[0].hypot(c[1]) < 0.7 * std::f64::consts::SQRT_2);
+        let result = blocked_area(&cells, &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        let ratio = result.blocked_area_ratio.unwrap();
+        assert!((1.7..2.3).contains(&ratio), "{ratio}");
+        assert_eq!(result.missed_lethal_cells, 0);
+        assert!(result.false_lethal_cells > 0);
+    }
+
+    #[test]
+    fn a_climbable_rock_is_not_lethal_and_a_missed_rock_is_counted() {
+        let rocks = [rock(0.0, 0.0, 0.3, 0.15), rock(2.0, 0.0, 0.3, 0.5)];
+        let result = blocked_area(&grid(|_| false), &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        assert!(result.true_lethal_cells > 0, "the tall rock only");
+        assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
+        assert_eq!(result.missed_lethal_percent(), Some(100.0));
+        assert_eq!(result.blocked_area_ratio, Some(0.0));
+    }
+
+    #[test]
+    fn cells_far_from_the_track_are_not_judged() {
+        let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
+        let result = blocked_area(&grid(|_| true), &rocks, &[[100.0, 100.0]], 0.25, 0.2, 0.4);
+        assert_eq!(result.judged_cells, 0);
+        assert_eq!(result.blocked_area_ratio, None);
+    }
+}

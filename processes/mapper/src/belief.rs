@@ -100,7 +100,7 @@ pub enum BeliefClass {
     Lethal,
 }
 
-/// The belief of one cell. `Copy`, 32 bytes.
+/// The belief of one cell. `Copy`, 48 bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CellBelief {
     /// Estimate of the tallest thing above the local ground, metres (valid if `top_count > 0`).
@@ -127,6 +127,12 @@ pub struct CellBelief {
     pub observed: bool,
     /// The last vote on the cell was a ray passing under its claimed top (a hit resets it).
     pub ray_cleared: bool,
+    /// Corner of the box holding the cell's points at least half the climb limit tall, world
+    /// metres (empty while `extent_min_m > extent_max_m`): where in the cell the thing
+    /// stands, so its margin is measured from it, not from the whole cell.
+    pub extent_min_m: [f32; 2],
+    /// The opposite corner.
+    pub extent_max_m: [f32; 2],
 }
 
 impl Default for CellBelief {
@@ -144,6 +150,8 @@ impl Default for CellBelief {
             lethal: false,
             observed: false,
             ray_cleared: false,
+            extent_min_m: [f32::INFINITY; 2],
+            extent_max_m: [f32::NEG_INFINITY; 2],
         }
     }
 }
@@ -204,6 +212,24 @@ impl CellBelief {
         } else {
             BeliefClass::Traversable
         }
+    }
+
+    /// Grows the extent by a point at `xy_m` (world metres) that stands at least half the
+    /// climb limit tall.
+    pub fn extend(&mut self, xy_m: [f32; 2]) {
+        if xy_m.iter().all(|v| v.is_finite()) {
+            for axis in 0..2 {
+                self.extent_min_m[axis] = self.extent_min_m[axis].min(xy_m[axis]);
+                self.extent_max_m[axis] = self.extent_max_m[axis].max(xy_m[axis]);
+            }
+        }
+    }
+
+    /// The box of the cell's tall points, `None` while empty.
+    pub fn extent_m(&self) -> Option<([f32; 2], [f32; 2])> {
+        (self.extent_min_m[0] <= self.extent_max_m[0]
+            && self.extent_min_m[1] <= self.extent_max_m[1])
+            .then_some((self.extent_min_m, self.extent_max_m))
     }
 
     /// One-sigma uncertainty of the top, metres (infinite without one).

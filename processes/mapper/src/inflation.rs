@@ -51,73 +51,106 @@ pub fn inflation_kernel(
     kernel
 }
 
-/// nav2-style inflation by the rover's footprint around one lethal cell (whose content may lie
-/// anywhere in its square, so distances run to the square's nearest point):
-///
-/// - within `inscribed_m` the rover's body touches the rock whatever its heading: lethal for
-///   its centre;
-/// - out to `circumscribed_m` it may, depending on the heading ("possibly inscribed"):
-///   `band_cost`, high but finite, and the drive checks the oriented footprint;
-/// - beyond, out to `radius_m`, the cost decays as `band_cost · exp(−k·(d − circumscribed))`
-///   (`k` = `cost_scaling_per_m`, nav2's `cost_scaling_factor`).
-pub fn footprint_kernel(
-    cell_size_m: f64,
-    inscribed_m: f64,
-    circumscribed_m: f64,
-    radius_m: f64,
-    band_cost: u32,
-    cost_scaling_per_m: f64,
-) -> Vec<KernelEntry> {
-    let circumscribed_m = circumscribed_m.max(inscribed_m);
-    let radius_m = radius_m.max(circumscribed_m);
-    let reach = (radius_m / cell_size_m + 0.5).ceil().max(0.0) as i32;
+/// The rover's footprint against one obstacle, for nav2-style inflation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FootprintCosts {
+    /// Radius of the largest circle inside the footprint, metres.
+    pub inscribed_m: f64,
+    /// Radius of the smallest circle holding the footprint, metres.
+    pub circumscribed_m: f64,
+    /// Inflation reaches this far, metres.
+    pub radius_m: f64,
+    /// Cost of the "possibly inscribed" band, planner units.
+    pub band_cost: u32,
+    /// Decay rate beyond the band, 1/m.
+    pub cost_scaling_per_m: f64,
+}
+
+impl FootprintCosts {
+    /// The extra cost and lethality of a cell whose centre lies `distance_m` from the
+    /// obstacle; `None` beyond the inflation radius:
+    ///
+    /// - within `inscribed_m` the rover's body touches the rock whatever its heading: lethal
+    ///   for its centre;
+    /// - out to `circumscribed_m` it may, depending on the heading ("possibly inscribed"):
+    ///   `band_cost`, high but finite, and the drive checks the oriented footprint;
+    /// - beyond, out to `radius_m`, `band_cost · exp(−k·(d − circumscribed))` (`k` =
+    ///   `cost_scaling_per_m`, nav2's `cost_scaling_factor`).
+    pub fn at(&self, distance_m: f64) -> Option<(u32, bool)> {
+        let circumscribed_m = self.circumscribed_m.max(self.inscribed_m);
+        let radius_m = self.radius_m.max(circumscribed_m);
+        if !(distance_m <= radius_m + 1e-9) {
+            return None;
+        }
+        let lethal = distance_m < self.inscribed_m - 1e-9;
+        let cost = if distance_m <= circumscribed_m + 1e-9 {
+            self.band_cost
+        } else {
+            let decay = (-self.cost_scaling_per_m * (distance_m - circumscribed_m)).exp();
+            (f64::from(self.band_cost) * decay).round() as u32
+        };
+        (cost > 0 || lethal).then_some((cost.max(1), lethal))
+    }
+
+    /// How far (in cells of `cell_size_m`) the inflation reaches from an obstacle cell.
+    pub fn reach_cells(&self, cell_size_m: f64) -> i32 {
+        let radius_m = self
+            .radius_m
+            .max(self.circumscribed_m)
+            .max(self.inscribed_m);
+        (radius_m / cell_size_m + 0.5).ceil().max(0.0) as i32
+    }
+}
+
+/// [`FootprintCosts`] around one obstacle cell whose content may lie anywhere in its square
+/// (distances run to the square's nearest point): the kernel of a cell without a measured
+/// extent, and of the full-knowledge map.
+pub fn footprint_kernel(cell_size_m: f64, costs: &FootprintCosts) -> Vec<KernelEntry> {
+    let reach = costs.reach_cells(cell_size_m);
     let mut kernel = Vec::new();
     for dy in -reach..=reach {
         for dx in -reach..=reach {
             // From this cell's centre to the nearest point of the source cell's square.
             let gap = |d: i32| (f64::from(d.abs()) * cell_size_m - cell_size_m / 2.0).max(0.0);
-            let distance_m = gap(dx).hypot(gap(dy));
-            if (dx, dy) == (0, 0) || distance_m > radius_m + 1e-9 {
+            if (dx, dy) == (0, 0) {
                 continue;
             }
-            let lethal = distance_m < inscribed_m - 1e-9;
-            let cost = if distance_m <= circumscribed_m + 1e-9 {
-                band_cost
-            } else {
-                let decay = (-cost_scaling_per_m * (distance_m - circumscribed_m)).exp();
-                (f64::from(band_cost) * decay).round() as u32
-            };
-            if cost == 0 && !lethal {
-                continue;
+            if let Some((cost, lethal)) = costs.at(gap(dx).hypot(gap(dy))) {
+                kernel.push(KernelEntry {
+                    dx,
+                    dy,
+                    cost,
+                    lethal,
+                });
             }
-            kernel.push(KernelEntry {
-                dx,
-                dy,
-                cost: cost.max(1),
-                lethal,
-            });
         }
     }
     kernel
 }
 
+/// The footprint costs of `config`'s rover (`None` under the `features` model).
+pub fn footprint_costs(config: &crate::config::MapperConfig) -> Option<FootprintCosts> {
+    (config.obstacle_model == crate::config::ObstacleModel::Traversability).then(|| {
+        FootprintCosts {
+            inscribed_m: config.rover_body.inscribed_radius_m(),
+            circumscribed_m: config.rover_body.circumscribed_radius_m(),
+            radius_m: config.inflation_radius_m,
+            band_cost: config.inflation_max_cost,
+            cost_scaling_per_m: config.cost_scaling_per_m,
+        }
+    })
+}
+
 /// The kernel the mapper inflates with under `config` (its obstacle model and the rover's
 /// body), for a grid of `cell_size_m`: the evaluation plans with the same one.
 pub fn kernel_for(config: &crate::config::MapperConfig, cell_size_m: f64) -> Vec<KernelEntry> {
-    match config.obstacle_model {
-        crate::config::ObstacleModel::Features => inflation_kernel(
+    match footprint_costs(config) {
+        Some(costs) => footprint_kernel(cell_size_m, &costs),
+        None => inflation_kernel(
             cell_size_m,
             config.inflation_radius_m,
             config.lethal_radius_m,
             config.inflation_max_cost,
-        ),
-        crate::config::ObstacleModel::Traversability => footprint_kernel(
-            cell_size_m,
-            config.rover_body.inscribed_radius_m(),
-            config.rover_body.circumscribed_radius_m(),
-            config.inflation_radius_m,
-            config.inflation_max_cost,
-            config.cost_scaling_per_m,
         ),
     }
 }
@@ -159,7 +192,14 @@ mod tests {
     #[test]
     fn the_footprint_kernel_is_lethal_inside_the_inscribed_radius_only() {
         // 0.25 m cells, the default rover: inscribed 0.4 m, circumscribed 0.68 m.
-        let kernel = footprint_kernel(0.25, 0.4, 0.68, 1.0, 2000, 3.0);
+        let costs = FootprintCosts {
+            inscribed_m: 0.4,
+            circumscribed_m: 0.68,
+            radius_m: 1.0,
+            band_cost: 2000,
+            cost_scaling_per_m: 3.0,
+        };
+        let kernel = footprint_kernel(0.25, &costs);
         let entry = |dx, dy| kernel.iter().find(|e| (e.dx, e.dy) == (dx, dy)).copied();
         // Gaps to the source square: 1 cell 0.125 m, 2 cells 0.375 m, 3 cells 0.625 m.
         assert!(entry(1, 0).unwrap().lethal && entry(2, 0).unwrap().lethal);
@@ -182,17 +222,8 @@ mod tests {
             inflation_kernel(0.5, 1.0, 0.75, 2000)
         );
         config.obstacle_model = crate::config::ObstacleModel::Traversability;
-        let body = config.rover_body;
-        assert_eq!(
-            kernel_for(&config, 0.25),
-            footprint_kernel(
-                0.25,
-                body.inscribed_radius_m(),
-                body.circumscribed_radius_m(),
-                1.0,
-                2000,
-                3.0
-            )
-        );
+        let costs = footprint_costs(&config).expect("traversability");
+        assert_eq!(costs.inscribed_m, config.rover_body.inscribed_radius_m());
+        assert_eq!(kernel_for(&config, 0.25), footprint_kernel(0.25, &costs));
     }
 }

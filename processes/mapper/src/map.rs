@@ -16,7 +16,7 @@ use crate::config::{MapperConfig, ObstacleModel};
 use crate::dirty::DirtySet;
 use crate::geometry::GridGeometry;
 use crate::ground::{GroundPlane, GroundScratch, fit_ground};
-use crate::inflation::{KernelEntry, kernel_for, kernel_reach};
+use crate::inflation::{FootprintCosts, KernelEntry, footprint_costs, kernel_for, kernel_reach};
 use crate::traversability::BeliefLayer;
 
 /// What the map did with the features it was given.
@@ -134,6 +134,8 @@ pub struct FeatureMap {
     cloud_sequence: u32,
     /// The `traversability` model's beliefs (`None` under the `features` model).
     beliefs: Option<BeliefLayer>,
+    /// The `traversability` model's footprint inflation.
+    footprint_costs: Option<FootprintCosts>,
 }
 
 impl FeatureMap {
@@ -180,6 +182,7 @@ impl FeatureMap {
             cloud_sequence: 0,
             beliefs: (config.obstacle_model == ObstacleModel::Traversability)
                 .then(|| BeliefLayer::new(config, cells)),
+            footprint_costs: footprint_costs(config),
         }
     }
 
@@ -272,7 +275,13 @@ impl FeatureMap {
             }
         }
         if let (Some(layer), Some(height_m)) = (self.beliefs.as_mut(), belief_height_m) {
-            layer.add_point(index, self.cloud_sequence, height_m, vertical_sigma_m);
+            layer.add_point(
+                index,
+                self.cloud_sequence,
+                [x, y],
+                height_m,
+                vertical_sigma_m,
+            );
             // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
             // pose drift, and a ray drawn off its place would clear a real rock.
             if robot == Robot::Rover
@@ -595,6 +604,19 @@ impl FeatureMap {
             .count() as u32
     }
 
+    /// The `traversability` model's cost of cell `index` from the obstacle in cell `source`,
+    /// measured from where in `source` its tall points stand (`Some((0, false))` when that is
+    /// beyond the inflation; `None` without an extent: the kernel's whole-cell value holds).
+    fn cost_from_extent(&self, index: usize, source: usize) -> Option<(u32, bool)> {
+        let costs = self.footprint_costs.as_ref()?;
+        let (min_m, max_m) = self.beliefs.as_ref()?.belief(source)?.extent_m()?;
+        let (x, y) = self.geometry.coords(index);
+        let (cx, cy) = self.geometry.centre_m(x, y);
+        let gap = |c: f64, lo: f32, hi: f32| (f64::from(lo) - c).max(c - f64::from(hi)).max(0.0);
+        let distance_m = gap(cx, min_m[0], max_m[0]).hypot(gap(cy, min_m[1], max_m[1]));
+        Some(costs.at(distance_m).unwrap_or((0, false)))
+    }
+
     fn derive_state(&self, index: usize) -> CellState {
         let base = self.base[index];
         let observed_by = self.stats[index].observed_by;
@@ -623,8 +645,11 @@ impl FeatureMap {
             }
             let neighbour = self.geometry.index(nx as u32, ny as u32);
             if self.base[neighbour].class == BaseClass::Obstacle {
-                extra_cost = extra_cost.max(entry.cost);
-                lethal |= entry.lethal;
+                let (cost, is_lethal) = self
+                    .cost_from_extent(index, neighbour)
+                    .unwrap_or((entry.cost, entry.lethal));
+                extra_cost = extra_cost.max(cost);
+                lethal |= is_lethal;
             }
         }
         if base.class == BaseClass::Uncertain {

@@ -34,12 +34,23 @@ impl BeliefLayer {
         }
     }
 
-    /// A point of cloud `cloud` in cell `index`, `height_m` above its local ground, with a
-    /// one-sigma height uncertainty `sigma_m` (raised to the configured floor).
-    pub fn add_point(&mut self, index: usize, cloud: u32, height_m: f32, sigma_m: f32) {
+    /// A point of cloud `cloud` at `xy_m` in cell `index`, `height_m` above its local ground,
+    /// with a one-sigma height uncertainty `sigma_m` (raised to the configured floor).
+    pub fn add_point(
+        &mut self,
+        index: usize,
+        cloud: u32,
+        xy_m: [f32; 2],
+        height_m: f32,
+        sigma_m: f32,
+    ) {
         let sigma_m = sigma_m.hypot(self.sigma_floor_m);
+        let flank_m = 0.5 * self.params.climb_limit_m;
         if let Some(belief) = self.beliefs.get_mut(index) {
             belief.add_point(&self.params, cloud, height_m, sigma_m);
+            if height_m >= flank_m {
+                belief.extend(xy_m);
+            }
         }
     }
 

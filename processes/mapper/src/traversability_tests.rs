@@ -203,3 +203,32 @@ fn bad_points_are_refused_and_counted_never_a_panic() {
     assert_eq!(counters.bad_sigma, 2);
     assert_eq!(counters.outside_grid, 1);
 }
+
+#[test]
+fn two_unclimbable_rocks_1_1_m_apart_leave_a_corridor_for_the_rovers_centre() {
+    // Rocks of 0.3 m radius, 0.4 m tall, their edges 1.1 m apart across y = 0; the rover
+    // (0.8 m wide) fits with 0.15 m to spare on each side.
+    let mut map = map();
+    let rocks = [([1.0, -0.85], 0.3, 0.4), ([1.0, 0.85], 0.3, 0.4)];
+    for _ in 0..3 {
+        map.insert_cloud(Robot::Rover, &rover_cloud((-1.0, 3.0), (-2.0, 2.0), &rocks));
+        map.update();
+    }
+    assert_eq!(class_at(&map, 1.0, -0.85), CellClass::Obstacle);
+    assert_eq!(class_at(&map, 1.0, 0.85), CellClass::Obstacle);
+    // Some row of cells along y between the rocks is open to the centre all the way past them.
+    let geometry = geometry_of(&map);
+    let (x0, _) = geometry.cell_of(0.0, 0.0).expect("inside");
+    let (x1, _) = geometry.cell_of(2.0, 0.0).expect("inside");
+    let open_row = (-2..=2).any(|row| {
+        let y_m = 0.125 + 0.25 * f64::from(row);
+        (x0..=x1).all(|x| {
+            let (_, y) = geometry.cell_of(0.0, y_m).expect("inside");
+            !matches!(
+                map.cell_state(x, y).map(|cell| cell.class),
+                Some(CellClass::Obstacle | CellClass::Lethal)
+            )
+        })
+    });
+    assert!(open_row, "the gap closed on the map");
+}

@@ -63,6 +63,7 @@ pub fn planner_section(config: &HopnavConfig) -> Result<PlannerSection, ConfigEr
     if config.mission.mode == MissionMode::RoverOnly {
         navigator.scout.enabled = false;
     }
+    navigator.rover_body = hopnav_robot::RoverBody::from_config(config)?;
     let world: hopnav_world::WorldConfig = parse_section(config, "world")?;
     let goal_m = world.scenario.goal_m.ok_or_else(|| ConfigError::Schema {
         key: "world.scenario.goal_m".into(),
@@ -109,6 +110,7 @@ fn cell_change(update: &CellUpdate) -> Option<MapChange> {
     Some(MapChange {
         change: CellChange::new(Cell::new(update.x, update.y), state, update.extra_cost),
         doubtful,
+        rock: class == CellClass::Obstacle,
         scouted: seen_by_jumper && !seen_by_rover,
     })
 }

@@ -53,6 +53,14 @@ pub struct NavigatorConfig {
     pub max_safe_tilt_rad: f64,
     /// When to ask the jumper to scout (cooperative mode only).
     pub scout: ScoutConfig,
+    /// Before driving to a waypoint, sweep the rover's oriented footprint along the straight
+    /// drive against the cells the mapper calls rocks (not their lethal margins), and take a
+    /// nearer waypoint of the path when the body would touch one: the centre's lethal margin
+    /// covers only the inscribed circle, the band beyond it depends on the heading.
+    pub footprint_check: bool,
+    /// The rover's body, from `[physics.rover]` (not a `[planner]` key).
+    #[serde(skip)]
+    pub rover_body: hopnav_robot::RoverBody,
 }
 
 impl Default for NavigatorConfig {
@@ -74,6 +82,8 @@ impl Default for NavigatorConfig {
             bump_ring_m: 0.75,
             max_safe_tilt_rad: 22f64.to_radians(),
             scout: ScoutConfig::default(),
+            footprint_check: false,
+            rover_body: hopnav_robot::RoverBody::default(),
         }
     }
 }

@@ -136,6 +136,58 @@ impl MapGeometry {
     }
 }
 
+impl MapGeometry {
+    /// Whether a rover footprint of `half_extents_m` (half length along its heading, half
+    /// width), driven straight from `from_m` to `to_m` facing along the segment, stays clear
+    /// of every cell `blocked` says is a rock. Sampled every quarter cell; a cell counts as
+    /// touched when any part of its square may lie inside the footprint.
+    pub fn footprint_is_clear(
+        &self,
+        from_m: [f64; 2],
+        to_m: [f64; 2],
+        half_extents_m: [f64; 2],
+        blocked: impl Fn(Cell) -> bool,
+    ) -> bool {
+        let (dx, dy) = (to_m[0] - from_m[0], to_m[1] - from_m[1]);
+        let length_m = dx.hypot(dy);
+        if !length_m.is_finite() {
+            return false;
+        }
+        let (cos, sin) = if length_m > 1e-9 {
+            (dx / length_m, dy / length_m)
+        } else {
+            (1.0, 0.0)
+        };
+        let [half_length_m, half_width_m] = half_extents_m;
+        // A cell touches the footprint when its centre is within half a cell diagonal of it.
+        let grow_m = 0.5 * std::f64::consts::SQRT_2 * self.cell_size_m;
+        let reach_m = half_length_m.hypot(half_width_m) + grow_m;
+        let samples = (length_m / (0.25 * self.cell_size_m)).ceil().max(1.0) as usize;
+        (0..=samples).all(|sample| {
+            let t = sample as f64 / samples as f64;
+            let centre_m = [from_m[0] + t * dx, from_m[1] + t * dy];
+            let Some(lo) = self.nearest_cell([centre_m[0] - reach_m, centre_m[1] - reach_m]) else {
+                return false;
+            };
+            let Some(hi) = self.nearest_cell([centre_m[0] + reach_m, centre_m[1] + reach_m]) else {
+                return false;
+            };
+            (lo.y..=hi.y).all(|y| {
+                (lo.x..=hi.x).all(|x| {
+                    let cell = Cell::new(x, y);
+                    let [cx, cy] = self.center_of(cell);
+                    let (rx, ry) = (cx - centre_m[0], cy - centre_m[1]);
+                    let along_m = (rx * cos + ry * sin).abs();
+                    let across_m = (-rx * sin + ry * cos).abs();
+                    let inside =
+                        along_m <= half_length_m + grow_m && across_m <= half_width_m + grow_m;
+                    !inside || !blocked(cell)
+                })
+            })
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,5 +208,18 @@ mod tests {
         assert!(MapGeometry::new(0.0, 0.0, 0.0, 4, 4).is_err());
         assert!(MapGeometry::new(f64::NAN, 0.0, 0.5, 4, 4).is_err());
         assert!(MapGeometry::new(0.0, 0.0, 0.5, 0, 4).is_err());
+    }
+
+    #[test]
+    fn the_footprint_sweep_sees_a_rock_beside_the_centre_line() {
+        let geometry = MapGeometry::new(-8.0, -8.0, 0.25, 64, 64).unwrap();
+        let rock = geometry.cell_of([2.0, 0.45]).unwrap();
+        let blocked = |cell: Cell| cell == rock;
+        // The centre line (y = 0) passes 0.45 m from the rock: the 0.8 m wide body hits it…
+        assert!(!geometry.footprint_is_clear([0.0, 0.0], [4.0, 0.0], [0.55, 0.4], blocked));
+        // … a line 1 m away clears it, and so does a drive that stops short of it.
+        assert!(geometry.footprint_is_clear([0.0, -1.0], [4.0, -1.0], [0.55, 0.4], blocked));
+        assert!(geometry.footprint_is_clear([-3.0, 0.0], [0.5, 0.0], [0.55, 0.4], blocked));
+        assert!(!geometry.footprint_is_clear([f64::NAN, 0.0], [1.0, 0.0], [0.55, 0.4], blocked));
     }
 }

@@ -100,6 +100,9 @@ pub struct MapChange {
     /// keyframe over its flight; the navigator takes them as one batch once they stop coming
     /// (see [`ScoutBatch`]), so one hop changes the route once, not at every keyframe.
     pub scouted: bool,
+    /// The mapper calls the cell a rock (not a lethal margin): the rover's body must not
+    /// touch it (see `NavigatorConfig::footprint_check`).
+    pub rock: bool,
 }
 
 impl From<CellChange> for MapChange {
@@ -108,6 +111,7 @@ impl From<CellChange> for MapChange {
             change,
             doubtful: false,
             scouted: false,
+            rock: change.state == CellState::Obstacle,
         }
     }
 }
@@ -160,6 +164,8 @@ pub struct Navigator {
     bumped: Vec<BumpedCell>,
     /// Per cell (row-major): the mapper's obstacle there is doubtful (see [`MapChange`]).
     doubtful: Vec<bool>,
+    /// Cells the mapper calls rocks (or the rover bumped into), for the footprint sweep.
+    rock: Vec<bool>,
     /// Doubtful obstacles are planned through at [`DOUBTFUL_OBSTACLE_COST`]: set once they
     /// alone made the goal unreachable, for the rest of the mission.
     doubts_relaxed: bool,
@@ -213,6 +219,7 @@ impl Navigator {
             driving: false,
             bumped: Vec::new(),
             doubtful: vec![false; cell_count],
+            rock: vec![false; cell_count],
             doubts_relaxed: false,
             rover_tilt_rad: 0.0,
             tilt_floor_rad: None,
@@ -275,12 +282,16 @@ impl Navigator {
     /// Queues one in-grid change for the planner.
     fn take_change(&mut self, change: MapChange) {
         let MapChange {
-            change, doubtful, ..
+            change,
+            doubtful,
+            rock,
+            ..
         } = change;
         let Some(index) = self.cell_index(change.cell) else {
             return;
         };
         self.doubtful[index] = doubtful && change.state == CellState::Obstacle;
+        self.rock[index] = rock && change.state == CellState::Obstacle;
         let change = self.relax_if_doubtful(change);
         let change = if change.state == CellState::Unknown {
             CellChange::new(
@@ -651,8 +662,29 @@ impl Navigator {
             .find(|&target_m| {
                 self.geometry
                     .segment_is_clear(self.planner.grid(), rover_m, target_m)
+                    && self.footprint_fits(rover_m, target_m)
             })
             .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
+    }
+
+    /// The rover's body, driven straight from `from_m` to `to_m`, touches no rock cell (always
+    /// true with `footprint_check` off).
+    fn footprint_fits(&self, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
+        if !self.config.footprint_check {
+            return true;
+        }
+        let body = &self.config.rover_body;
+        let half_extents_m = [
+            0.5 * body.footprint_length_m(),
+            0.5 * body.footprint_width_m(),
+        ];
+        let width = self.geometry.width_cells() as usize;
+        let bumped = |cell: Cell| self.bumped.iter().any(|b| b.cell == cell);
+        self.geometry
+            .footprint_is_clear(from_m, to_m, half_extents_m, |cell| {
+                let index = cell.y as usize * width + cell.x as usize;
+                self.rock.get(index).copied().unwrap_or(false) || bumped(cell)
+            })
     }
 
     /// How many cells of the path, from its start, lie within `range_m` of the rover.

@@ -136,6 +136,7 @@ fn doubtful_obstacles_that_alone_cut_off_the_goal_are_driven_through_at_a_cost()
         change: CellChange::new(Cell::new(30, y), CellState::Obstacle, 0),
         doubtful: true,
         scouted: false,
+        rock: true,
     });
     navigator.queue_changes(doubtful);
     let decision = navigator.step(at([2.0, 5.0]), None, 0.0).unwrap();
@@ -379,6 +380,7 @@ fn jumper_only_rock(cell: Cell) -> MapChange {
         change: CellChange::new(cell, CellState::Obstacle, 0),
         doubtful: true,
         scouted: true,
+        rock: true,
     }
 }
 

@@ -218,9 +218,9 @@ impl CellBelief {
     /// climb limit tall.
     pub fn extend(&mut self, xy_m: [f32; 2]) {
         if xy_m.iter().all(|v| v.is_finite()) {
-            for axis in 0..2 {
-                self.extent_min_m[axis] = self.extent_min_m[axis].min(xy_m[axis]);
-                self.extent_max_m[axis] = self.extent_max_m[axis].max(xy_m[axis]);
+            for (axis, value) in xy_m.into_iter().enumerate() {
+                self.extent_min_m[axis] = self.extent_min_m[axis].min(value);
+                self.extent_max_m[axis] = self.extent_max_m[axis].max(value);
             }
         }
     }

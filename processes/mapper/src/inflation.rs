@@ -79,7 +79,8 @@ impl FootprintCosts {
     pub fn at(&self, distance_m: f64) -> Option<(u32, bool)> {
         let circumscribed_m = self.circumscribed_m.max(self.inscribed_m);
         let radius_m = self.radius_m.max(circumscribed_m);
-        if !(distance_m <= radius_m + 1e-9) {
+        // NaN distances fall through to `None` too.
+        if distance_m.is_nan() || distance_m > radius_m + 1e-9 {
             return None;
         }
         let lethal = distance_m < self.inscribed_m - 1e-9;

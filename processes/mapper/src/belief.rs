@@ -11,9 +11,9 @@
 //!   raise a cell.
 //! - **The log-odds** that the cell holds something the rover cannot climb. Each cloud casts
 //!   at most one vote per cell: a hit when one of its points may stand above the climb limit
-//!   and the top, with that point fused, stands confidently above it (its estimate minus
-//!   `confidence_sigmas` of its sigma), a miss when its points there are all confidently
-//!   below the limit, or when one of its rays passes through the cell
+//!   and the top, with that point fused, stands above it (its estimate minus `hit_sigmas` of
+//!   its sigma above the limit less `hit_margin_m`), a miss when its points there are all
+//!   confidently below the limit, or when one of its rays passes through the cell
 //!   below the cell's claimed top (the claimed rock would have hidden what the ray saw). A hit
 //!   in the same cloud overrides a miss. Votes are clamped, so a cell can always be cleared.
 //!
@@ -45,9 +45,15 @@ use serde::{Deserialize, Serialize};
 pub struct BeliefParams {
     /// The rover's climb limit, metres.
     pub climb_limit_m: f32,
-    /// A point is confidently above (below) the limit when it stands this many of its sigmas
-    /// above (below) it.
+    /// A point is confidently below the limit (a miss), and a top straddles it (uncertain),
+    /// within this many sigmas.
     pub confidence_sigmas: f32,
+    /// A cloud's hit needs the fused top this many of its sigmas above `climb_limit_m −
+    /// hit_margin_m`.
+    pub hit_sigmas: f32,
+    /// How far below the climb limit a top already counts as too tall, metres: features sit
+    /// on a rock's corners and flanks rather than its apex, so its fused top reads low.
+    pub hit_margin_m: f32,
     /// Mahalanobis gate of the top estimate, sigmas: a point this far above the top starts a
     /// candidate top.
     pub gate_sigmas: f32,
@@ -75,6 +81,8 @@ impl BeliefParams {
         Self {
             climb_limit_m: climb_limit_m as f32,
             confidence_sigmas: 2.0,
+            hit_sigmas: 0.5,
+            hit_margin_m: 0.03,
             gate_sigmas: 3.0,
             top_band_sigmas: 1.0,
             hit: 0.85,
@@ -167,8 +175,8 @@ impl CellBelief {
         self.observed = true;
         self.fuse_top(params, height_m, sigma_m * sigma_m);
         let margin_m = params.confidence_sigmas * sigma_m;
-        let top_confident =
-            self.top_m - params.confidence_sigmas * self.top_sigma_m() > params.climb_limit_m;
+        let top_confident = self.top_m - params.hit_sigmas * self.top_sigma_m()
+            > params.climb_limit_m - params.hit_margin_m;
         if height_m + margin_m < params.climb_limit_m {
             self.vote(params, cloud, -1);
         } else if top_confident {

@@ -102,6 +102,13 @@ pub struct MapperConfig {
     /// `traversability`: a point's height sigma is at least this (the clouds' heights above
     /// the local ground also carry the ground's error: rover stereo ground RMS ≈ 4 cm), metres.
     pub height_sigma_floor_m: f64,
+    /// `traversability`: a cloud votes a cell too tall when the cell's fused top stands this
+    /// many of its sigmas above the climb limit less `hit_margin_m` (see
+    /// [`crate::belief::BeliefParams`]).
+    pub hit_sigmas: f64,
+    /// `traversability`: a top this far below the climb limit already counts as too tall,
+    /// metres: features sit on a rock's corners and flanks, not its apex, so its top reads low.
+    pub hit_margin_m: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
     /// out to `inflation_radius_m`, 1/m.
@@ -157,6 +164,8 @@ impl Default for MapperConfig {
             oracle_prior_map: false,
             obstacle_model: ObstacleModel::Features,
             height_sigma_floor_m: 0.03,
+            hit_sigmas: 0.5,
+            hit_margin_m: 0.03,
             cost_scaling_per_m: 3.0,
             uncertain_cost: 1500,
             rover_body: hopnav_robot::RoverBody::default(),
@@ -290,6 +299,8 @@ impl MapperConfig {
         )?;
         check_f64("height_sigma_floor_m", self.height_sigma_floor_m, 0.0, 1.0)?;
         check_f64("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
+        check_f64("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
+        check_f64("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
         check_u64(
             "uncertain_cost",
             u64::from(self.uncertain_cost),

@@ -338,12 +338,19 @@ impl FeatureMap {
         for i in 0..batch {
             let index = self.reclassify.as_slice()[i] as usize;
             let base = self.classify(index);
+            // Obstacles inflate, and (at a lower cost) uncertain cells too.
+            let inflates = |class: BaseClass| {
+                class == BaseClass::Obstacle
+                    || class == BaseClass::Uncertain && self.beliefs.is_some()
+            };
             let was_obstacle = self.base[index].class == BaseClass::Obstacle;
             let is_obstacle = base.class == BaseClass::Obstacle;
+            let inflation_changed = inflates(self.base[index].class) != inflates(base.class)
+                || was_obstacle != is_obstacle;
             self.base[index] = base;
             self.restate.insert(index);
-            if was_obstacle != is_obstacle {
-                if self.beliefs.is_some() {
+            if inflation_changed {
+                if self.beliefs.is_some() && was_obstacle != is_obstacle {
                     // A rock's flanks join it or leave it with its top (next update).
                     self.reclassify_neighbours(index);
                 }
@@ -644,12 +651,23 @@ impl FeatureMap {
                 continue;
             }
             let neighbour = self.geometry.index(nx as u32, ny as u32);
-            if self.base[neighbour].class == BaseClass::Obstacle {
-                let (cost, is_lethal) = self
-                    .cost_from_extent(index, neighbour)
-                    .unwrap_or((entry.cost, entry.lethal));
-                extra_cost = extra_cost.max(cost);
-                lethal |= is_lethal;
+            match self.base[neighbour].class {
+                BaseClass::Obstacle => {
+                    let (cost, is_lethal) = self
+                        .cost_from_extent(index, neighbour)
+                        .unwrap_or((entry.cost, entry.lethal));
+                    extra_cost = extra_cost.max(cost);
+                    lethal |= is_lethal;
+                }
+                // Maybe too tall: the rover's body is kept off it at half the cost, never
+                // forbidden (the closer look settles it).
+                BaseClass::Uncertain if self.beliefs.is_some() => {
+                    let (cost, _) = self
+                        .cost_from_extent(index, neighbour)
+                        .unwrap_or((entry.cost, entry.lethal));
+                    extra_cost = extra_cost.max(cost / 2);
+                }
+                _ => {}
             }
         }
         if base.class == BaseClass::Uncertain {

@@ -27,7 +27,11 @@ impl BeliefLayer {
     /// Unknown everywhere, for `cells` cells, with the rover's climb limit of `config`.
     pub fn new(config: &MapperConfig, cells: usize) -> Self {
         Self {
-            params: BeliefParams::new(config.rover_body.max_climbable_height_m),
+            params: BeliefParams {
+                hit_sigmas: config.hit_sigmas as f32,
+                hit_margin_m: config.hit_margin_m as f32,
+                ..BeliefParams::new(config.rover_body.max_climbable_height_m)
+            },
             sigma_floor_m: config.height_sigma_floor_m as f32,
             beliefs: vec![CellBelief::default(); cells],
             rays_counted: 0,

@@ -647,8 +647,9 @@ impl Navigator {
 
     /// Pure pursuit: the first path point at least `lookahead_m` from the rover, or a nearer
     /// one, such that the straight drive from the rover's actual position to it crosses no
-    /// obstacle cell (a segment from the cell centre could cut a corner the rover then hits);
-    /// the goal itself at the end of the path.
+    /// obstacle cell (a segment from the cell centre could cut a corner the rover then hits)
+    /// and, with `footprint_check`, sweeps the body past no rock; the goal itself at the end
+    /// of the path.
     fn waypoint(&self, rover_m: [f64; 2]) -> [f64; 2] {
         let ahead = self.path.iter().position(|&cell| {
             distance_m(self.geometry.center_of(cell), rover_m) >= self.config.lookahead_m
@@ -656,14 +657,21 @@ impl Navigator {
         let Some(index) = ahead else {
             return self.goal_m;
         };
-        (1..=index)
-            .rev()
-            .map(|candidate| self.geometry.center_of(self.path[candidate]))
-            .find(|&target_m| {
-                self.geometry
-                    .segment_is_clear(self.planner.grid(), rover_m, target_m)
-                    && self.footprint_fits(rover_m, target_m)
-            })
+        let candidates = || {
+            (1..=index)
+                .rev()
+                .map(|candidate| self.geometry.center_of(self.path[candidate]))
+                .filter(|&target_m| {
+                    self.geometry
+                        .segment_is_clear(self.planner.grid(), rover_m, target_m)
+                })
+        };
+        // The farthest waypoint the body reaches clear of every rock; when none (the rover
+        // already brushes one, or the path squeezes past it), the farthest the centre reaches,
+        // as without the sweep: a rover that waited for a clear footprint would never move.
+        candidates()
+            .find(|&target_m| self.footprint_fits(rover_m, target_m))
+            .or_else(|| candidates().next())
             .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
     }
 

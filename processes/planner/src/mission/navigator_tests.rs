@@ -525,3 +525,36 @@ fn ground_found_free_where_the_path_expected_it_is_no_replan() {
     assert_eq!(decision.status, MissionStatus::GoalReached);
     assert_eq!(navigator.counters().replans, 0);
 }
+
+#[test]
+fn the_footprint_sweep_takes_a_nearer_waypoint_when_the_body_would_brush_a_rock() {
+    // 0.25 m cells; a rock cell 0.45 m beside the straight line ahead (the centre clears it,
+    // the 0.8 m wide body does not). The rock's lethal margin is not on the map (as when the
+    // mapper left it out): only the sweep can see the body's problem.
+    let geometry = MapGeometry::new(0.0, 0.0, 0.25, 40, 40).unwrap();
+    let rock = geometry.cell_of([2.0, 5.45]).unwrap();
+    let waypoint = |footprint_check: bool| {
+        let config = NavigatorConfig {
+            footprint_check,
+            lookahead_m: 3.0,
+            ..NavigatorConfig::default()
+        };
+        let mut navigator = Navigator::new(geometry, [0.6, 5.0], [9.0, 5.0], config).unwrap();
+        let mut changes: Vec<MapChange> = (0..40)
+            .flat_map(|y| (0..40).map(move |x| Cell::new(x, y)))
+            .map(|cell| CellChange::new(cell, CellState::Free, 0).into())
+            .collect();
+        changes.push(MapChange {
+            change: CellChange::new(rock, CellState::Obstacle, 0),
+            doubtful: false,
+            scouted: false,
+            rock: true,
+        });
+        navigator.queue_changes(changes);
+        navigator.step(at([0.6, 5.0]), None, 0.0).unwrap().waypoint_m
+    };
+    let without = waypoint(false);
+    let with = waypoint(true);
+    assert!(without[0] > 2.5, "no sweep: the look-ahead point {without:?}");
+    assert!(with[0] < without[0], "the sweep kept {with:?}");
+}

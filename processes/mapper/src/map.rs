@@ -524,9 +524,10 @@ impl FeatureMap {
         }
     }
 
-    /// The cell stands confidently above half the climb limit next to a lethal cell: the
-    /// flank of the same rock (a rock is about half as tall as it is wide, so its footprint
-    /// reaches well beyond the part that is too tall), which the rover's body must not touch.
+    /// The cell stands confidently above half the climb limit next to a lethal cell or to
+    /// another such flank: the flank of the same rock (a rock is about half as tall as it is
+    /// wide, so its footprint reaches well beyond the part that is too tall), which the
+    /// rover's body must not touch. Flanks grow a ring per update across the rock's cells.
     fn is_flank_of_lethal(&self, index: usize) -> bool {
         let Some(layer) = &self.beliefs else {
             return false;
@@ -547,7 +548,9 @@ impl FeatureMap {
         (y0..=y1).any(|ny| {
             (x0..=x1).any(|nx| {
                 let neighbour = self.geometry.index(nx, ny);
-                neighbour != index && layer.class(neighbour) == BeliefClass::Lethal
+                neighbour != index
+                    && (layer.class(neighbour) == BeliefClass::Lethal
+                        || self.base[neighbour].class == BaseClass::Obstacle)
             })
         })
     }

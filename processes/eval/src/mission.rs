@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
-use crate::traversability::{BlockedArea, MapCell, blocked_area};
+use crate::traversability::{BlockedArea, MapCell, RockEllipse, blocked_area};
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
@@ -155,6 +155,8 @@ pub struct MissionTruth {
     pub goal_m: Option<[f64; 2]>,
     /// The world's rocks, regenerated from the config (`None` when it cannot be).
     pub rocks: Option<Vec<RockFootprint>>,
+    /// The same rocks' footprints as ellipses.
+    pub rock_ellipses: Option<Vec<RockEllipse>>,
     /// The mapper's obstacle threshold, metres.
     pub traversable_height_m: f64,
     /// The rover's climb limit, metres.
@@ -173,7 +175,8 @@ impl MissionTruth {
             hopnav_config::parse_section(config, "world").ok()?;
         let body = hopnav_robot::RoverBody::from_config(config).ok()?;
         let mapper = hopnav_mapper::config::mapper_section(config).ok();
-        let rocks = hopnav_world::World::generate(&world).ok().map(|world| {
+        let generated = hopnav_world::World::generate(&world).ok();
+        let rocks = generated.as_ref().map(|world| {
             world
                 .rocks()
                 .iter()
@@ -184,10 +187,23 @@ impl MissionTruth {
                 })
                 .collect()
         });
+        let rock_ellipses = generated.as_ref().map(|world| {
+            world
+                .rocks()
+                .iter()
+                .map(|rock| RockEllipse {
+                    center_m: [rock.center_m[0], rock.center_m[1]],
+                    semi_axes_m: [rock.half_extents_m[0], rock.half_extents_m[1]],
+                    yaw_rad: rock.yaw_rad,
+                    height_m: rock.height_m,
+                })
+                .collect()
+        });
         Some(Self {
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
             rocks,
+            rock_ellipses,
             traversable_height_m: mapper
                 .as_ref()
                 .map_or(MapperConfig::default(), Clone::clone)
@@ -235,7 +251,7 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .iter()
             .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
             .collect(),
-        blocked_area: rocks.and_then(|rocks| {
+        blocked_area: truth.rock_ellipses.as_deref().and_then(|rocks| {
             let map = record.map.as_ref()?;
             Some(judge_blocked_area(truth, map, &record.rover_track_m, rocks))
         }),
@@ -247,7 +263,7 @@ fn judge_blocked_area(
     truth: &MissionTruth,
     map: &RecordedMap,
     rover_track_m: &[(f64, f64)],
-    rocks: &[RockFootprint],
+    rocks: &[RockEllipse],
 ) -> BlockedArea {
     let size_m = map.cell_size_m;
     let cells: Vec<MapCell> = map

@@ -10,9 +10,8 @@
 //! traversable, **false** ones mapped lethal and truly not.
 //!
 //! ```
-//! use hopnav_eval::map_accuracy::RockFootprint;
-//! use hopnav_eval::traversability::{MapCell, blocked_area};
-//! let rock = RockFootprint { center_m: [0.0, 0.0], radius_m: 0.3, height_m: 0.4 };
+//! use hopnav_eval::traversability::{MapCell, RockEllipse, blocked_area};
+//! let rock = RockEllipse::round([0.0, 0.0], 0.3, 0.4);
 //! // A 0.25 m grid around the rock, every cell mapped as the truth has it.
 //! let cells: Vec<MapCell> = (-8..8)
 //!     .flat_map(|y| (-8..8).map(move |x| (x, y)))
@@ -28,7 +27,47 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::map_accuracy::RockFootprint;
+/// A rock's footprint as an ellipse (the world's rocks are ellipsoids), for the blocked area.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RockEllipse {
+    /// Centre (x, y), world metres.
+    pub center_m: [f64; 2],
+    /// Semi-axes along the rock's yawed x and y, metres.
+    pub semi_axes_m: [f64; 2],
+    /// Yaw of the footprint about world z, radians.
+    pub yaw_rad: f64,
+    /// Height above its base, metres.
+    pub height_m: f64,
+}
+
+impl RockEllipse {
+    /// A round rock of `radius_m`.
+    pub fn round(center_m: [f64; 2], radius_m: f64, height_m: f64) -> Self {
+        Self {
+            center_m,
+            semi_axes_m: [radius_m, radius_m],
+            yaw_rad: 0.0,
+            height_m,
+        }
+    }
+
+    /// Distance from `point_m` to the footprint's edge along the ray from its centre (exact
+    /// for a circle, close for the world's mildly elongated rocks), metres; ≤ 0 inside.
+    pub fn gap_m(&self, point_m: [f64; 2]) -> f64 {
+        let (dx, dy) = (point_m[0] - self.center_m[0], point_m[1] - self.center_m[1]);
+        let (sin, cos) = self.yaw_rad.sin_cos();
+        let (u, v) = (dx * cos + dy * sin, -dx * sin + dy * cos);
+        let distance_m = u.hypot(v);
+        let [a, b] = self.semi_axes_m;
+        if distance_m <= 1e-12 {
+            return -a.min(b);
+        }
+        // The ellipse's radius in the direction of the point.
+        let (cu, sv) = (u / distance_m, v / distance_m);
+        let radius_m = a * b / ((b * cu).powi(2) + (a * sv).powi(2)).sqrt();
+        distance_m - radius_m
+    }
+}
 
 /// Cells farther than this from the rover's true track are not judged, metres.
 pub const NEAR_TRACK_M: f64 = 5.0;
@@ -73,13 +112,13 @@ impl BlockedArea {
 /// the `rocks` taller than `climb_limit_m`, for a rover of `inscribed_m`.
 pub fn blocked_area(
     cells: &[MapCell],
-    rocks: &[RockFootprint],
+    rocks: &[RockEllipse],
     track_m: &[[f64; 2]],
     cell_size_m: f64,
     climb_limit_m: f64,
     inscribed_m: f64,
 ) -> BlockedArea {
-    let blocking: Vec<&RockFootprint> = rocks
+    let blocking: Vec<&RockEllipse> = rocks
         .iter()
         .filter(|rock| rock.height_m > climb_limit_m)
         .collect();
@@ -90,12 +129,9 @@ pub fn blocked_area(
             continue;
         }
         result.judged_cells += 1;
-        let truly_lethal = blocking.iter().any(|rock| {
-            let gap_m = (cell.centre_m[0] - rock.center_m[0])
-                .hypot(cell.centre_m[1] - rock.center_m[1])
-                - rock.radius_m;
-            gap_m < inscribed_m
-        });
+        let truly_lethal = blocking
+            .iter()
+            .any(|rock| rock.gap_m(cell.centre_m) < inscribed_m);
         if cell.lethal {
             result.mapped_lethal_m2 += cell_m2;
         }
@@ -126,12 +162,22 @@ fn near_track(point_m: [f64; 2], track_m: &[[f64; 2]]) -> bool {
 mod tests {
     use super::*;
 
-    fn rock(x: f64, y: f64, radius_m: f64, height_m: f64) -> RockFootprint {
-        RockFootprint {
-            center_m: [x, y],
-            radius_m,
-            height_m,
-        }
+    fn rock(x: f64, y: f64, radius_m: f64, height_m: f64) -> RockEllipse {
+        RockEllipse::round([x, y], radius_m, height_m)
+    }
+
+    #[test]
+    fn the_gap_to_an_elongated_rock_follows_its_yawed_ellipse() {
+        let rock = RockEllipse {
+            center_m: [1.0, 1.0],
+            semi_axes_m: [0.6, 0.2],
+            yaw_rad: std::f64::consts::FRAC_PI_2,
+            height_m: 0.4,
+        };
+        // Yawed a quarter turn: the long axis runs along world y.
+        assert!((rock.gap_m([1.0, 2.0]) - 0.4).abs() < 1e-9);
+        assert!((rock.gap_m([2.0, 1.0]) - 0.8).abs() < 1e-9);
+        assert!(rock.gap_m([1.0, 1.1]) < 0.0);
     }
 
     fn grid(lethal: impl Fn([f64; 2]) -> bool) -> Vec<MapCell> {

@@ -551,10 +551,16 @@ fn the_footprint_sweep_takes_a_nearer_waypoint_when_the_body_would_brush_a_rock(
             rock: true,
         });
         navigator.queue_changes(changes);
-        navigator.step(at([0.6, 5.0]), None, 0.0).unwrap().waypoint_m
+        navigator
+            .step(at([0.6, 5.0]), None, 0.0)
+            .unwrap()
+            .waypoint_m
     };
     let without = waypoint(false);
     let with = waypoint(true);
-    assert!(without[0] > 2.5, "no sweep: the look-ahead point {without:?}");
+    assert!(
+        without[0] > 2.5,
+        "no sweep: the look-ahead point {without:?}"
+    );
     assert!(with[0] < without[0], "the sweep kept {with:?}");
 }

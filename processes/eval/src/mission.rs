@@ -118,7 +118,7 @@ impl MissionEvaluation {
         if let Some(blocked) = &self.blocked_area {
             writeln!(
                 out,
-                "ground lethal for the rover's centre near its track: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}",
+                "ground lethal for the rover's centre near its track: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}; unclimbable rocks near the track: {} lethal, {} only costly, {} seen but free, {} not seen",
                 blocked.mapped_lethal_m2,
                 blocked.true_lethal_m2,
                 blocked
@@ -126,7 +126,11 @@ impl MissionEvaluation {
                     .map_or("-".to_owned(), |ratio| format!("{ratio:.2}")),
                 blocked.missed_lethal_cells,
                 blocked.true_lethal_cells,
-                blocked.false_lethal_cells
+                blocked.false_lethal_cells,
+                blocked.rocks_by_outcome[0],
+                blocked.rocks_by_outcome[1],
+                blocked.rocks_by_outcome[2],
+                blocked.rocks_by_outcome[3]
             )?;
         }
         for vo in &self.vo {
@@ -276,6 +280,7 @@ fn judge_blocked_area(
                 map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
             ],
             lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
+            costly: cell.extra_cost > 0,
         })
         .collect();
     let track_m: Vec<[f64; 2]> = rover_track_m.iter().map(|&(x, y)| [x, y]).collect();

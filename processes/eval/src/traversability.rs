@@ -17,7 +17,7 @@
 //!     .flat_map(|y| (-8..8).map(move |x| (x, y)))
 //!     .map(|(x, y)| {
 //!         let centre_m = [0.125 + 0.25 * x as f64, 0.125 + 0.25 * y as f64];
-//!         MapCell { centre_m, lethal: centre_m[0].hypot(centre_m[1]) < 0.7 }
+//!         MapCell { centre_m, lethal: centre_m[0].hypot(centre_m[1]) < 0.7, costly: false }
 //!     })
 //!     .collect();
 //! let result = blocked_area(&cells, &[rock], &[[0.0, -1.5], [0.0, 1.5]], 0.25, 0.2, 0.4);
@@ -79,6 +79,8 @@ pub struct MapCell {
     pub centre_m: [f64; 2],
     /// The map shuts the rover's centre out of it (an obstacle or a lethal margin).
     pub lethal: bool,
+    /// The map charges an extra cost to enter it (inflation, or maybe too tall).
+    pub costly: bool,
 }
 
 /// The map's blocked ground against the truth's, near the rover's track.
@@ -98,6 +100,10 @@ pub struct BlockedArea {
     pub true_lethal_cells: usize,
     /// Cells mapped lethal that are not truly lethal.
     pub false_lethal_cells: usize,
+    /// Rocks the rover cannot climb whose centre lies near the track, by what the map made
+    /// of the cells over them: [lethal, only costly, seen and left free, not seen].
+    #[serde(default)]
+    pub rocks_by_outcome: [usize; 4],
 }
 
 impl BlockedArea {
@@ -147,6 +153,26 @@ pub fn blocked_area(
     }
     result.blocked_area_ratio =
         (result.true_lethal_m2 > 0.0).then(|| result.mapped_lethal_m2 / result.true_lethal_m2);
+    for rock in blocking
+        .iter()
+        .filter(|rock| near_track(rock.center_m, track_m))
+    {
+        // The cells over the rock (a cell counts when its centre is within half a cell of it).
+        let over: Vec<&MapCell> = cells
+            .iter()
+            .filter(|cell| rock.gap_m(cell.centre_m) <= 0.5 * cell_size_m)
+            .collect();
+        let outcome = if over.iter().any(|cell| cell.lethal) {
+            0
+        } else if over.iter().any(|cell| cell.costly) {
+            1
+        } else if !over.is_empty() {
+            2
+        } else {
+            3
+        };
+        result.rocks_by_outcome[outcome] += 1;
+    }
     result
 }
 
@@ -188,6 +214,7 @@ mod tests {
                 MapCell {
                     centre_m,
                     lethal: lethal(centre_m),
+                    costly: false,
                 }
             })
             .collect()
@@ -220,5 +247,24 @@ mod tests {
         let result = blocked_area(&grid(|_| true), &rocks, &[[100.0, 100.0]], 0.25, 0.2, 0.4);
         assert_eq!(result.judged_cells, 0);
         assert_eq!(result.blocked_area_ratio, None);
+    }
+
+    #[test]
+    fn each_rock_near_the_track_is_counted_by_what_the_map_made_of_it() {
+        let rocks = [
+            rock(0.0, 0.0, 0.3, 0.5),
+            rock(2.0, 0.0, 0.3, 0.5),
+            rock(-2.0, 0.0, 0.3, 0.5),
+            rock(0.0, 30.0, 0.3, 0.5),
+        ];
+        let mut cells = grid(|c| c[0].hypot(c[1]) < 0.2);
+        for cell in &mut cells {
+            cell.costly = (cell.centre_m[0] - 2.0).hypot(cell.centre_m[1]) < 0.2;
+        }
+        cells.retain(|cell| cell.centre_m[0] < 3.0 || cell.centre_m[1].abs() > 1.0);
+        cells.retain(|cell| (cell.centre_m[0] + 2.0).hypot(cell.centre_m[1]) > 0.6);
+        let result = blocked_area(&cells, &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        // Lethal, only costly, not seen; the fourth is beyond 5 m of the track.
+        assert_eq!(result.rocks_by_outcome, [1, 1, 0, 1]);
     }
 }

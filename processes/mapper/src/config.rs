@@ -109,6 +109,14 @@ pub struct MapperConfig {
     /// `traversability`: a top this far below the climb limit already counts as too tall,
     /// metres: features sit on a rock's corners and flanks, not its apex, so its top reads low.
     pub hit_margin_m: f64,
+    /// `traversability`: the stereo sees a rock's near face only; rocks are about twice as
+    /// wide as they are tall, so a too-tall cell's margin may be measured from a box grown
+    /// about its tall points' middle to this fraction of its top height as a half-width
+    /// (0 = from the tall points only). At 1, seed 1 at k = 0.16 (rover-only) went from a
+    /// blocked-area ratio of 0.62 to 1.09 and from 46 % to 26 % of truly lethal cells left
+    /// traversable, but a 1.1 m gap between two rocks closed: the box grows about the cell,
+    /// not about the rock.
+    pub rock_width_prior: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
     /// out to `inflation_radius_m`, 1/m.
@@ -166,6 +174,7 @@ impl Default for MapperConfig {
             height_sigma_floor_m: 0.03,
             hit_sigmas: 0.5,
             hit_margin_m: 0.03,
+            rock_width_prior: 0.0,
             cost_scaling_per_m: 3.0,
             uncertain_cost: 1500,
             rover_body: hopnav_robot::RoverBody::default(),
@@ -300,6 +309,7 @@ impl MapperConfig {
         check_f64("height_sigma_floor_m", self.height_sigma_floor_m, 0.0, 1.0)?;
         check_f64("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
         check_f64("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
+        check_f64("rock_width_prior", self.rock_width_prior, 0.0, 2.0)?;
         check_f64("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
         check_u64(
             "uncertain_cost",

@@ -108,6 +108,7 @@ struct Thresholds {
     ground_reach_cells: u32,
     max_cells_per_update: usize,
     uncertain_cost: u32,
+    rock_width_prior: f32,
 }
 
 /// The merged, bounded map of both robots' features.
@@ -165,6 +166,7 @@ impl FeatureMap {
                 ground_reach_cells,
                 max_cells_per_update: config.max_cells_per_frame.max(1) as usize,
                 uncertain_cost: config.uncertain_cost,
+                rock_width_prior: config.rock_width_prior as f32,
             },
             inflation_reach_cells: kernel_reach(&kernel),
             kernel,
@@ -619,7 +621,24 @@ impl FeatureMap {
     /// beyond the inflation; `None` without an extent: the kernel's whole-cell value holds).
     fn cost_from_extent(&self, index: usize, source: usize) -> Option<(u32, bool)> {
         let costs = self.footprint_costs.as_ref()?;
-        let (min_m, max_m) = self.beliefs.as_ref()?.belief(source)?.extent_m()?;
+        let belief = self.beliefs.as_ref()?.belief(source)?;
+        let (mut min_m, mut max_m) = belief.extent_m()?;
+        // The stereo sees a rock's near face only. Rocks are about as wide as twice their
+        // height (Golombek, and the world's ellipsoids): with `rock_width_prior` the box of a
+        // too-tall cell grows about its middle to that fraction of the measured top as a
+        // half-width, at most a metre.
+        let layer = self.beliefs.as_ref()?;
+        let half_m = if layer.class(source) == BeliefClass::Lethal {
+            (self.thresholds.rock_width_prior * belief.top_m).clamp(0.0, 1.0)
+        } else {
+            // A flank is seen where it is.
+            0.0
+        };
+        for axis in 0..2 {
+            let middle_m = 0.5 * (min_m[axis] + max_m[axis]);
+            min_m[axis] = min_m[axis].min(middle_m - half_m);
+            max_m[axis] = max_m[axis].max(middle_m + half_m);
+        }
         let (x, y) = self.geometry.coords(index);
         let (cx, cy) = self.geometry.centre_m(x, y);
         let gap = |c: f64, lo: f32, hi: f32| (f64::from(lo) - c).max(c - f64::from(hi)).max(0.0);

@@ -206,10 +206,11 @@ fn bad_points_are_refused_and_counted_never_a_panic() {
 
 #[test]
 fn two_unclimbable_rocks_1_1_m_apart_leave_a_corridor_for_the_rovers_centre() {
-    // Rocks of 0.3 m radius, 0.4 m tall, their edges 1.1 m apart across y = 0; the rover
-    // (0.8 m wide) fits with 0.15 m to spare on each side.
+    // Rocks of 0.3 m radius, 0.3 m tall (as wide as twice their height, like the world's),
+    // their edges 1.1 m apart across y = 0; the rover (0.8 m wide) fits with 0.15 m to spare
+    // on each side.
     let mut map = map();
-    let rocks = [([1.0, -0.85], 0.3, 0.4), ([1.0, 0.85], 0.3, 0.4)];
+    let rocks = [([1.0, -0.85], 0.3, 0.3), ([1.0, 0.85], 0.3, 0.3)];
     for _ in 0..3 {
         map.insert_cloud(Robot::Rover, &rover_cloud((-1.0, 3.0), (-2.0, 2.0), &rocks));
         map.update();

@@ -68,20 +68,7 @@ pub struct LaunchOutcome {
 /// ends in a report (with the outcome saying why it stopped).
 pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     let config = &options.config;
-    let enabled: Vec<(String, hopnav_config::ProcessConfig)> = config
-        .processes
-        .iter()
-        .filter(|(_, process)| process.enabled)
-        .map(|(name, process)| (name.clone(), process.clone()))
-        .collect();
-    for (name, _) in &enabled {
-        if !options.known_processes.contains(name) {
-            return Err(LaunchError::UnknownProcess {
-                name: name.clone(),
-                known: options.known_processes.join(", "),
-            });
-        }
-    }
+    let enabled = enabled_processes(&options)?;
 
     // A SIGINT or SIGTERM that arrived before this launch (e.g. between the runs of
     // `hopnav compare`) stops it before anything starts. This also installs the handler that
@@ -104,19 +91,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     // Before the run folder: a second launch with a live run id must not touch the first's.
     let namespace = Namespace::new(&run_id)?;
     let _claim = namespace.claim()?;
-    let run_dir = Path::new(&config.run.out_dir).join(&run_id);
-    std::fs::create_dir_all(&run_dir).map_err(|source| LaunchError::RunDir {
-        path: run_dir.clone(),
-        source,
-    })?;
-    let config_path = run_dir.join("config.toml");
-    std::fs::write(&config_path, hopnav_config::to_toml(config)?).map_err(|source| {
-        LaunchError::RunDir {
-            path: config_path.clone(),
-            source,
-        }
-    })?;
-    let config_path = std::fs::canonicalize(&config_path).unwrap_or(config_path);
+    let (run_dir, config_path) = prepare_run_dir(config, &run_id)?;
 
     let frames = config.run.frames as usize;
     let slots: Vec<Slot> = enabled
@@ -229,12 +204,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
 
     let success = matches!(end, LoopEnd::Completed | LoopEnd::MissionEnded(_));
     let interrupted = end == LoopEnd::Interrupted;
-    let outcome = match &end {
-        LoopEnd::Completed => "completed".to_owned(),
-        LoopEnd::MissionEnded(reason) => format!("completed: mission over, {reason}"),
-        LoopEnd::Interrupted => "interrupted".to_owned(),
-        LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
-    };
+    let outcome = outcome_text(&end);
     let mut mission_report = mission.as_ref().map(|mission| mission.report.clone());
     let mut evaluation = Evaluation::default();
     if let Some(mission) = &mission {
@@ -286,6 +256,58 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         interrupted,
         mission_record: mission.map(|mission| mission.record),
     })
+}
+
+/// The enabled processes of `options`' config; an error names one this binary cannot run.
+fn enabled_processes(
+    options: &LaunchOptions,
+) -> Result<Vec<(String, hopnav_config::ProcessConfig)>, LaunchError> {
+    let enabled: Vec<(String, hopnav_config::ProcessConfig)> = options
+        .config
+        .processes
+        .iter()
+        .filter(|(_, process)| process.enabled)
+        .map(|(name, process)| (name.clone(), process.clone()))
+        .collect();
+    if let Some((name, _)) = enabled
+        .iter()
+        .find(|(name, _)| !options.known_processes.contains(name))
+    {
+        return Err(LaunchError::UnknownProcess {
+            name: name.clone(),
+            known: options.known_processes.join(", "),
+        });
+    }
+    Ok(enabled)
+}
+
+/// Creates `<out_dir>/<run id>/` and writes the `config.toml` the children read; returns
+/// the folder and the config file's (canonical) path.
+fn prepare_run_dir(config: &HopnavConfig, run_id: &str) -> Result<(PathBuf, PathBuf), LaunchError> {
+    let run_dir = Path::new(&config.run.out_dir).join(run_id);
+    std::fs::create_dir_all(&run_dir).map_err(|source| LaunchError::RunDir {
+        path: run_dir.clone(),
+        source,
+    })?;
+    let config_path = run_dir.join("config.toml");
+    std::fs::write(&config_path, hopnav_config::to_toml(config)?).map_err(|source| {
+        LaunchError::RunDir {
+            path: config_path.clone(),
+            source,
+        }
+    })?;
+    let config_path = std::fs::canonicalize(&config_path).unwrap_or(config_path);
+    Ok((run_dir, config_path))
+}
+
+/// The report's `outcome`.
+fn outcome_text(end: &LoopEnd) -> String {
+    match end {
+        LoopEnd::Completed => "completed".to_owned(),
+        LoopEnd::MissionEnded(reason) => format!("completed: mission over, {reason}"),
+        LoopEnd::Interrupted => "interrupted".to_owned(),
+        LoopEnd::Stopped(reason) => format!("stopped: {reason}"),
+    }
 }
 
 /// Writes the rover's true track as `rover_track.csv` (a warning when it cannot).

@@ -108,7 +108,7 @@ pub enum BeliefClass {
     Lethal,
 }
 
-/// The belief of one cell. `Copy`, 48 bytes.
+/// The belief of one cell. `Copy`, 56 bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CellBelief {
     /// Estimate of the tallest thing above the local ground, metres (valid if `top_count > 0`).
@@ -141,6 +141,9 @@ pub struct CellBelief {
     pub extent_min_m: [f32; 2],
     /// The opposite corner.
     pub extent_max_m: [f32; 2],
+    /// Sum of the horizontal unit vectors from the camera to the cell's tall points (rover
+    /// clouds): which way the unseen back of the thing lies.
+    pub view_sum: [f32; 2],
 }
 
 impl Default for CellBelief {
@@ -160,6 +163,7 @@ impl Default for CellBelief {
             ray_cleared: false,
             extent_min_m: [f32::INFINITY; 2],
             extent_max_m: [f32::NEG_INFINITY; 2],
+            view_sum: [0.0; 2],
         }
     }
 }
@@ -231,6 +235,23 @@ impl CellBelief {
                 self.extent_max_m[axis] = self.extent_max_m[axis].max(value);
             }
         }
+    }
+
+    /// Adds the horizontal direction `from camera to a tall point` (normalized here; a zero
+    /// or non-finite one is ignored).
+    pub fn add_view(&mut self, direction: [f32; 2]) {
+        let length = direction[0].hypot(direction[1]);
+        if length.is_finite() && length > 1e-6 {
+            self.view_sum[0] += direction[0] / length;
+            self.view_sum[1] += direction[1] / length;
+        }
+    }
+
+    /// The mean viewing direction of the tall points, a unit vector (`None` without one).
+    pub fn view_direction(&self) -> Option<[f32; 2]> {
+        let length = self.view_sum[0].hypot(self.view_sum[1]);
+        (length.is_finite() && length > 1e-6)
+            .then(|| [self.view_sum[0] / length, self.view_sum[1] / length])
     }
 
     /// The box of the cell's tall points, `None` while empty.

@@ -277,12 +277,17 @@ impl FeatureMap {
             }
         }
         if let (Some(layer), Some(height_m)) = (self.beliefs.as_mut(), belief_height_m) {
+            // The rover's viewpoint tells which side of a rock it has not seen.
+            let camera_xy_m = camera_m
+                .filter(|_| robot == Robot::Rover)
+                .map(|[cx, cy, _]| [cx, cy]);
             layer.add_point(
                 index,
                 self.cloud_sequence,
                 [x, y],
                 height_m,
                 vertical_sigma_m,
+                camera_xy_m,
             );
             // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
             // pose drift, and a ray drawn off its place would clear a real rock.
@@ -625,8 +630,8 @@ impl FeatureMap {
         let (mut min_m, mut max_m) = belief.extent_m()?;
         // The stereo sees a rock's near face only. Rocks are about as wide as twice their
         // height (Golombek, and the world's ellipsoids): with `rock_width_prior` the box of a
-        // too-tall cell grows about its middle to that fraction of the measured top as a
-        // half-width, at most a metre.
+        // too-tall cell grows to hold a square of that fraction of the measured top as a
+        // half-width (at most a metre), set behind the seen face.
         let layer = self.beliefs.as_ref()?;
         let half_m = if layer.class(source) == BeliefClass::Lethal {
             (self.thresholds.rock_width_prior * belief.top_m).clamp(0.0, 1.0)
@@ -634,10 +639,18 @@ impl FeatureMap {
             // A flank is seen where it is.
             0.0
         };
-        for axis in 0..2 {
-            let middle_m = 0.5 * (min_m[axis] + max_m[axis]);
-            min_m[axis] = min_m[axis].min(middle_m - half_m);
-            max_m[axis] = max_m[axis].max(middle_m + half_m);
+        if half_m > 0.0 {
+            // The rock (about `half_m` in radius) stands behind its seen face, away from the
+            // camera when the rover saw it; without a viewpoint, around the face.
+            let [dx, dy] = belief.view_direction().unwrap_or([0.0, 0.0]);
+            let centre = [
+                0.5 * (min_m[0] + max_m[0]) + dx * half_m,
+                0.5 * (min_m[1] + max_m[1]) + dy * half_m,
+            ];
+            for axis in 0..2 {
+                min_m[axis] = min_m[axis].min(centre[axis] - half_m);
+                max_m[axis] = max_m[axis].max(centre[axis] + half_m);
+            }
         }
         let (x, y) = self.geometry.coords(index);
         let (cx, cy) = self.geometry.centre_m(x, y);

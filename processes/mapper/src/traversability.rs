@@ -39,7 +39,8 @@ impl BeliefLayer {
     }
 
     /// A point of cloud `cloud` at `xy_m` in cell `index`, `height_m` above its local ground,
-    /// with a one-sigma height uncertainty `sigma_m` (raised to the configured floor).
+    /// with a one-sigma height uncertainty `sigma_m` (raised to the configured floor), seen
+    /// from `camera_xy_m` when known.
     pub fn add_point(
         &mut self,
         index: usize,
@@ -47,6 +48,7 @@ impl BeliefLayer {
         xy_m: [f32; 2],
         height_m: f32,
         sigma_m: f32,
+        camera_xy_m: Option<[f64; 2]>,
     ) {
         let sigma_m = sigma_m.hypot(self.sigma_floor_m);
         let flank_m = 0.5 * self.params.climb_limit_m;
@@ -54,6 +56,12 @@ impl BeliefLayer {
             belief.add_point(&self.params, cloud, height_m, sigma_m);
             if height_m >= flank_m {
                 belief.extend(xy_m);
+                if let Some([cx, cy]) = camera_xy_m {
+                    belief.add_view([
+                        (f64::from(xy_m[0]) - cx) as f32,
+                        (f64::from(xy_m[1]) - cy) as f32,
+                    ]);
+                }
             }
         }
     }

@@ -233,3 +233,29 @@ fn two_unclimbable_rocks_1_1_m_apart_leave_a_corridor_for_the_rovers_centre() {
     });
     assert!(open_row, "the gap closed on the map");
 }
+
+#[test]
+fn the_width_prior_puts_a_half_seen_rocks_back_behind_its_face_not_in_front() {
+    // A 0.3 m tall rock of 0.3 m radius at (2, 0); the rover, 1 m up at the origin, sees
+    // only its near half.
+    let lethal_at = |prior: f64, x_m: f64| {
+        let config = MapperConfig {
+            rock_width_prior: prior,
+            ..config()
+        };
+        let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
+        let mut map = FeatureMap::new(&config, geometry);
+        let near_half = rover_cloud((0.5, 2.0), (-1.0, 1.0), &[([2.0, 0.0], 0.3, 0.3)]);
+        for _ in 0..3 {
+            map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &near_half);
+            map.update();
+        }
+        matches!(class_at(&map, x_m, 0.1), CellClass::Lethal | CellClass::Obstacle)
+    };
+    // 0.3 m behind the rock's back edge (x = 2.3): lethal only with the prior.
+    assert!(!lethal_at(0.0, 2.6));
+    assert!(lethal_at(1.0, 2.6));
+    // In front, 0.55 m from the seen face (x = 1.7): the prior does not push the margin
+    // towards the rover.
+    assert!(!lethal_at(1.0, 1.15));
+}

@@ -250,7 +250,10 @@ fn the_width_prior_puts_a_half_seen_rocks_back_behind_its_face_not_in_front() {
             map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &near_half);
             map.update();
         }
-        matches!(class_at(&map, x_m, 0.1), CellClass::Lethal | CellClass::Obstacle)
+        matches!(
+            class_at(&map, x_m, 0.1),
+            CellClass::Lethal | CellClass::Obstacle
+        )
     };
     // 0.3 m behind the rock's back edge (x = 2.3): lethal only with the prior.
     assert!(!lethal_at(0.0, 2.6));

@@ -162,6 +162,9 @@ pub struct Navigator {
     /// Cells the rover bumped into: obstacles whatever the mapper says later, unless they
     /// alone cut the rover off the goal.
     bumped: Vec<BumpedCell>,
+    /// Per cell (row-major): the cell is in `bumped` (a lookup the footprint sweep makes for
+    /// every cell it touches, every frame).
+    is_bumped: Vec<bool>,
     /// Per cell (row-major): the mapper's obstacle there is doubtful (see [`MapChange`]).
     doubtful: Vec<bool>,
     /// Cells the mapper calls rocks (or the rover bumped into), for the footprint sweep.
@@ -218,6 +221,7 @@ impl Navigator {
             bumper,
             driving: false,
             bumped: Vec::new(),
+            is_bumped: vec![false; cell_count],
             doubtful: vec![false; cell_count],
             rock: vec![false; cell_count],
             doubts_relaxed: false,
@@ -302,7 +306,9 @@ impl Navigator {
         } else {
             change
         };
-        if let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell) {
+        if self.is_bumped[index]
+            && let Some(bumped) = self.bumped.iter_mut().find(|b| b.cell == change.cell)
+        {
             bumped.mapper = change;
             return;
         }
@@ -351,7 +357,7 @@ impl Navigator {
                     0,
                 )))
             })
-            .filter(|change| !self.bumped.iter().any(|bumped| bumped.cell == change.cell))
+            .filter(|change| !self.is_bumped_cell(change.cell))
             .collect();
         self.planner
             .update_cells(&relaxed)
@@ -553,10 +559,13 @@ impl Navigator {
         if cell == self.planner.goal()
             || cell == rover_cell
             || self.bumped.len() >= MAX_BUMPED_CELLS
-            || self.bumped.iter().any(|bumped| bumped.cell == cell)
+            || self.is_bumped_cell(cell)
         {
             return false;
         }
+        let Some(index) = self.cell_index(cell) else {
+            return false;
+        };
         let grid = self.planner.grid();
         let mapper = CellChange::new(
             cell,
@@ -566,7 +575,14 @@ impl Navigator {
         self.pending
             .push(CellChange::new(cell, CellState::Obstacle, 0));
         self.bumped.push(BumpedCell { cell, mapper });
+        self.is_bumped[index] = true;
         true
+    }
+
+    /// The cell carries a bump mark.
+    fn is_bumped_cell(&self, cell: Cell) -> bool {
+        self.cell_index(cell)
+            .is_some_and(|index| self.is_bumped[index])
     }
 
     /// When the goal is unreachable and bump marks exist, they may be what cuts the rover
@@ -577,6 +593,7 @@ impl Navigator {
             return Ok(false);
         }
         let restore: Vec<CellChange> = self.bumped.drain(..).map(|bumped| bumped.mapper).collect();
+        self.is_bumped.fill(false);
         self.planner
             .update_cells(&restore)
             .map_err(NavigationError::Plan)?;
@@ -686,12 +703,10 @@ impl Navigator {
             0.5 * body.footprint_length_m(),
             0.5 * body.footprint_width_m(),
         ];
-        let width = self.geometry.width_cells() as usize;
-        let bumped = |cell: Cell| self.bumped.iter().any(|b| b.cell == cell);
         self.geometry
             .footprint_is_clear(from_m, to_m, half_extents_m, |cell| {
-                let index = cell.y as usize * width + cell.x as usize;
-                self.rock.get(index).copied().unwrap_or(false) || bumped(cell)
+                self.cell_index(cell)
+                    .is_some_and(|index| self.rock[index] || self.is_bumped[index])
             })
     }
 

@@ -9,6 +9,7 @@ use hopnav_config::MissionMode;
 use hopnav_eval::MissionEvaluation;
 use hopnav_supervisor::mission_report::MissionReport;
 
+use crate::compare_quality::median_and_worst;
 use crate::compare_rows::{CompareRow, RunSet};
 
 /// Which question a comparison answers (targets judge only the first).
@@ -74,16 +75,10 @@ fn spread(pairs: &[(f64, f64)]) -> Option<RatioSpread> {
             _ => None,
         })
         .collect();
-    ratios.sort_by(f64::total_cmp);
-    let middle = ratios.len() / 2;
-    let median = match ratios.len() {
-        0 => return None,
-        n if n % 2 == 1 => ratios[middle],
-        _ => 0.5 * (ratios[middle - 1] + ratios[middle]),
-    };
+    let (median, worst) = median_and_worst(&mut ratios)?;
     Some(RatioSpread {
         median,
-        worst: ratios[ratios.len() - 1],
+        worst,
         seeds: ratios.len(),
         left_out: pairs.len() - ratios.len(),
     })

@@ -110,12 +110,10 @@ pub struct MapperConfig {
     /// metres: features sit on a rock's corners and flanks, not its apex, so its top reads low.
     pub hit_margin_m: f64,
     /// `traversability`: the stereo sees a rock's near face only; rocks are about twice as
-    /// wide as they are tall, so a too-tall cell's margin may be measured from a box grown
-    /// about its tall points' middle to this fraction of its top height as a half-width
-    /// (0 = from the tall points only). At 1, seed 1 at k = 0.16 (rover-only) went from a
-    /// blocked-area ratio of 0.62 to 1.09 and from 46 % to 26 % of truly lethal cells left
-    /// traversable, but a 1.1 m gap between two rocks closed: the box grows about the cell,
-    /// not about the rock.
+    /// wide as they are tall, so a too-tall cell's margin may be measured from a box that
+    /// also holds a square of this fraction of its top height as a half-width, set behind the
+    /// seen face away from the rover's camera (0 = from the tall points only). Measured in
+    /// docs/experiments/2026-12-06-traversability-first-measurements.md.
     pub rock_width_prior: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),

@@ -26,26 +26,41 @@ pub fn inflation_kernel(
     max_cost: u32,
 ) -> Vec<KernelEntry> {
     let radius_m = radius_m.max(lethal_radius_m);
-    let reach = (radius_m / cell_size_m).floor().max(0.0) as i32;
-    let mut kernel = Vec::new();
     if max_cost == 0 && lethal_radius_m <= 0.0 {
-        return kernel;
+        return Vec::new();
     }
+    let reach = (radius_m / cell_size_m).floor().max(0.0) as i32;
+    kernel_within(reach, |dx, dy| {
+        let distance_m = f64::from(dx).hypot(f64::from(dy)) * cell_size_m;
+        if distance_m > radius_m + 1e-9 {
+            return None;
+        }
+        let fraction = 1.0 - distance_m / (radius_m + cell_size_m);
+        let cost = (f64::from(max_cost) * fraction).round().max(1.0) as u32;
+        Some((cost, distance_m <= lethal_radius_m + 1e-9))
+    })
+}
+
+/// The entries `entry_at(dx, dy)` gives (cost, lethal) for, over the square of `reach`
+/// cells around the obstacle (the obstacle's own cell left out).
+fn kernel_within(
+    reach: i32,
+    entry_at: impl Fn(i32, i32) -> Option<(u32, bool)>,
+) -> Vec<KernelEntry> {
+    let mut kernel = Vec::new();
     for dy in -reach..=reach {
         for dx in -reach..=reach {
-            let distance_m = f64::from(dx).hypot(f64::from(dy)) * cell_size_m;
-            if (dx, dy) == (0, 0) || distance_m > radius_m + 1e-9 {
+            if (dx, dy) == (0, 0) {
                 continue;
             }
-            let fraction = 1.0 - distance_m / (radius_m + cell_size_m);
-            let cost = (f64::from(max_cost) * fraction).round().max(1.0) as u32;
-            let lethal = distance_m <= lethal_radius_m + 1e-9;
-            kernel.push(KernelEntry {
-                dx,
-                dy,
-                cost,
-                lethal,
-            });
+            if let Some((cost, lethal)) = entry_at(dx, dy) {
+                kernel.push(KernelEntry {
+                    dx,
+                    dy,
+                    cost,
+                    lethal,
+                });
+            }
         }
     }
     kernel
@@ -107,26 +122,11 @@ impl FootprintCosts {
 /// (distances run to the square's nearest point): the kernel of a cell without a measured
 /// extent, and of the full-knowledge map.
 pub fn footprint_kernel(cell_size_m: f64, costs: &FootprintCosts) -> Vec<KernelEntry> {
-    let reach = costs.reach_cells(cell_size_m);
-    let mut kernel = Vec::new();
-    for dy in -reach..=reach {
-        for dx in -reach..=reach {
-            // From this cell's centre to the nearest point of the source cell's square.
-            let gap = |d: i32| (f64::from(d.abs()) * cell_size_m - cell_size_m / 2.0).max(0.0);
-            if (dx, dy) == (0, 0) {
-                continue;
-            }
-            if let Some((cost, lethal)) = costs.at(gap(dx).hypot(gap(dy))) {
-                kernel.push(KernelEntry {
-                    dx,
-                    dy,
-                    cost,
-                    lethal,
-                });
-            }
-        }
-    }
-    kernel
+    // From this cell's centre to the nearest point of the source cell's square.
+    let gap = |d: i32| (f64::from(d.abs()) * cell_size_m - cell_size_m / 2.0).max(0.0);
+    kernel_within(costs.reach_cells(cell_size_m), |dx, dy| {
+        costs.at(gap(dx).hypot(gap(dy)))
+    })
 }
 
 /// The footprint costs of `config`'s rover (`None` under the `features` model).

@@ -73,6 +73,11 @@ pub struct BeliefParams {
     pub lethal_enter: f32,
     /// … and stops being lethal below this one.
     pub lethal_exit: f32,
+    /// When set, a point votes a hit only if it stands this many of its own sigmas above
+    /// `climb_limit_m − hit_margin_m`, whatever the fused top says: for clouds whose errors
+    /// are shared by all their points (the jumper's pose drift tilts or lifts a whole cloud),
+    /// fusing many points shrinks the top's sigma below the truth.
+    pub point_hit_sigmas: Option<f32>,
 }
 
 impl BeliefParams {
@@ -91,6 +96,7 @@ impl BeliefParams {
             max_log_odds: 3.5,
             lethal_enter: 1.5,
             lethal_exit: 0.5,
+            point_hit_sigmas: None,
         }
     }
 }
@@ -179,8 +185,11 @@ impl CellBelief {
         self.observed = true;
         self.fuse_top(params, height_m, sigma_m * sigma_m);
         let margin_m = params.confidence_sigmas * sigma_m;
-        let top_confident = self.top_m - params.hit_sigmas * self.top_sigma_m()
-            > params.climb_limit_m - params.hit_margin_m;
+        let hit_above_m = params.climb_limit_m - params.hit_margin_m;
+        let top_confident = match params.point_hit_sigmas {
+            Some(sigmas) => height_m - sigmas * sigma_m > hit_above_m,
+            None => self.top_m - params.hit_sigmas * self.top_sigma_m() > hit_above_m,
+        };
         if height_m + margin_m < params.climb_limit_m {
             self.vote(params, cloud, -1);
         } else if top_confident {
@@ -275,9 +284,12 @@ impl CellBelief {
         self.top_count > 0 && self.top_m > params.climb_limit_m
     }
 
-    /// The top's confidence interval contains the limit.
+    /// The top's confidence interval contains the limit, and the top itself stands at least
+    /// half the limit tall: ground seen through a wide sigma (the jumper's, from tens of
+    /// metres up) is ground, not a maybe-rock, or everything the jumper sees would cost.
     fn top_straddles(&self, params: &BeliefParams) -> bool {
         self.top_count > 0
+            && self.top_m >= 0.5 * params.climb_limit_m
             && self.top_m + params.confidence_sigmas * self.top_sigma_m() > params.climb_limit_m
     }
 

@@ -115,6 +115,11 @@ pub struct MapperConfig {
     /// seen face away from the rover's camera (0 = from the tall points only). Measured in
     /// docs/experiments/2026-12-06-traversability-first-measurements.md.
     pub rock_width_prior: f64,
+    /// `traversability`: the tall points of touching cells are fitted as one rock, a dome
+    /// whose base radius is this many times its height ([`crate::dome`]; Golombek's rocks
+    /// and the world's are about twice as wide as tall: 1.0), and the ground under its base,
+    /// unseen back included, is the rock's. 0 = no fit: the cells' own beliefs only.
+    pub dome_base_per_height: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
     /// out to `inflation_radius_m`, 1/m.
@@ -173,6 +178,7 @@ impl Default for MapperConfig {
             hit_sigmas: 0.5,
             hit_margin_m: 0.03,
             rock_width_prior: 0.0,
+            dome_base_per_height: 0.0,
             cost_scaling_per_m: 3.0,
             uncertain_cost: 1500,
             rover_body: hopnav_robot::RoverBody::default(),
@@ -308,6 +314,7 @@ impl MapperConfig {
         check_f64("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
         check_f64("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
         check_f64("rock_width_prior", self.rock_width_prior, 0.0, 2.0)?;
+        check_f64("dome_base_per_height", self.dome_base_per_height, 0.0, 5.0)?;
         check_f64("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
         check_u64(
             "uncertain_cost",

@@ -46,6 +46,8 @@ pub mod belief;
 pub mod cell;
 pub mod config;
 pub mod dirty;
+pub mod dome;
+pub mod dome_layer;
 pub mod geometry;
 pub mod ground;
 pub mod inflation;

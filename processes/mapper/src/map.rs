@@ -14,10 +14,11 @@ use crate::belief::BeliefClass;
 use crate::cell::{CellStats, LOW_POINTS};
 use crate::config::{MapperConfig, ObstacleModel};
 use crate::dirty::DirtySet;
+use crate::dome_layer::{Changed, DomeLayer, StoredPoint};
 use crate::geometry::GridGeometry;
 use crate::ground::{GroundPlane, GroundScratch, fit_ground};
 use crate::inflation::{FootprintCosts, KernelEntry, footprint_costs, kernel_for, kernel_reach};
-use crate::traversability::BeliefLayer;
+use crate::traversability::{BeliefLayer, PointSource};
 
 /// What the map did with the features it was given.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -137,6 +138,8 @@ pub struct FeatureMap {
     beliefs: Option<BeliefLayer>,
     /// The `traversability` model's footprint inflation.
     footprint_costs: Option<FootprintCosts>,
+    /// The `traversability` model's rocks fitted as domes (`None` when off).
+    domes: Option<DomeLayer>,
 }
 
 impl FeatureMap {
@@ -185,7 +188,21 @@ impl FeatureMap {
             beliefs: (config.obstacle_model == ObstacleModel::Traversability)
                 .then(|| BeliefLayer::new(config, cells)),
             footprint_costs: footprint_costs(config),
+            domes: (config.obstacle_model == ObstacleModel::Traversability
+                && config.dome_base_per_height > 0.0)
+                .then(|| {
+                    DomeLayer::new(
+                        cells,
+                        config.dome_base_per_height,
+                        0.5 * config.rover_body.max_climbable_height_m as f32,
+                    )
+                }),
         }
+    }
+
+    /// The `traversability` model's fitted rocks (`None` when off).
+    pub fn domes(&self) -> Option<&DomeLayer> {
+        self.domes.as_ref()
     }
 
     /// The `traversability` model's beliefs (`None` under the `features` model).
@@ -283,12 +300,25 @@ impl FeatureMap {
                 .map(|[cx, cy, _]| [cx, cy]);
             layer.add_point(
                 index,
-                self.cloud_sequence,
+                PointSource {
+                    robot,
+                    cloud: self.cloud_sequence,
+                    camera_xy_m,
+                },
                 [x, y],
                 height_m,
                 vertical_sigma_m,
-                camera_xy_m,
             );
+            if let Some(domes) = self.domes.as_mut().filter(|_| robot == Robot::Rover) {
+                domes.add_point(
+                    index,
+                    StoredPoint {
+                        xy_m: [x, y],
+                        height_m,
+                        sigma_m: layer.floored_sigma_m(vertical_sigma_m),
+                    },
+                );
+            }
             // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
             // pose drift, and a ray drawn off its place would clear a real rock.
             if robot == Robot::Rover
@@ -325,6 +355,10 @@ impl FeatureMap {
         for &index in self.touched.as_slice() {
             let index = index as usize;
             self.reclassify.insert(index);
+            if let Some(domes) = self.domes.as_mut() {
+                // Rays may have refuted the cell's points: its rock is fitted again.
+                domes.mark(index);
+            }
             let (x, y) = self.geometry.coords(index);
             let (x0, y0, x1, y1) = self.geometry.window(x, y, reach);
             for ny in y0..=y1 {
@@ -338,6 +372,18 @@ impl FeatureMap {
             }
         }
         self.touched.clear();
+        if let (Some(domes), Some(layer)) = (self.domes.as_mut(), self.beliefs.as_ref()) {
+            let inflation_m = self.footprint_costs.as_ref().map_or(0.0, |c| c.radius_m);
+            domes.refit(
+                &self.geometry,
+                layer,
+                &mut Changed {
+                    reclassify: &mut self.reclassify,
+                    restate: &mut self.restate,
+                    inflation_m,
+                },
+            );
+        }
         let batch = self
             .reclassify
             .len()
@@ -439,7 +485,8 @@ impl FeatureMap {
             + self.ground_cache.capacity() * size_of::<Option<GroundPlane>>()
             + self.base.capacity() * size_of::<Base>()
             + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>()
-            + self.beliefs.as_ref().map_or(0, BeliefLayer::memory_bytes);
+            + self.beliefs.as_ref().map_or(0, BeliefLayer::memory_bytes)
+            + self.domes.as_ref().map_or(0, DomeLayer::memory_bytes);
         let sets = 4 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
         cells + sets + self.ground.samples.capacity() * 5 * size_of::<f64>()
     }
@@ -451,6 +498,12 @@ impl FeatureMap {
     pub(crate) fn set_beliefs(&mut self, beliefs: &[crate::belief::CellBelief]) {
         if let Some(layer) = self.beliefs.as_mut() {
             layer.set_beliefs(beliefs);
+        }
+    }
+
+    pub(crate) fn set_dome_points(&mut self, cells: &[(u32, crate::dome_layer::CellPoints)]) {
+        if let Some(domes) = self.domes.as_mut() {
+            domes.set_stored_points(cells);
         }
     }
 
@@ -512,10 +565,13 @@ impl FeatureMap {
     /// whether the cell was observed at all.
     fn classify_by_belief(&self, index: usize, belief: BeliefClass) -> Base {
         let stats = &self.stats[index];
+        let rock = self.fitted_rock_class(index);
         let class = match belief {
             BeliefClass::Lethal => BaseClass::Obstacle,
+            _ if rock == BeliefClass::Lethal => BaseClass::Obstacle,
             _ if self.is_flank_of_lethal(index) => BaseClass::Obstacle,
             BeliefClass::Uncertain => BaseClass::Uncertain,
+            _ if rock == BeliefClass::Uncertain => BaseClass::Uncertain,
             BeliefClass::Traversable | BeliefClass::Unknown => {
                 if stats.count >= self.thresholds.min_free_support {
                     BaseClass::Free
@@ -529,6 +585,25 @@ impl FeatureMap {
             support: stats.count,
             high: 0,
         }
+    }
+
+    /// What the fitted rocks whose base covers cell `index` make of it (the tallest verdict;
+    /// `Unknown` when none covers it).
+    fn fitted_rock_class(&self, index: usize) -> BeliefClass {
+        let (Some(domes), Some(layer)) = (&self.domes, &self.beliefs) else {
+            return BeliefClass::Unknown;
+        };
+        let mut class = BeliefClass::Unknown;
+        domes.near(&self.geometry, index, 0.0, |dome, _| {
+            match layer.judge_rock(dome.height_m, dome.height_sigma_m) {
+                BeliefClass::Lethal => class = BeliefClass::Lethal,
+                BeliefClass::Uncertain if class != BeliefClass::Lethal => {
+                    class = BeliefClass::Uncertain;
+                }
+                _ => {}
+            }
+        });
+        class
     }
 
     /// The cell stands confidently above half the climb limit next to a lethal cell or to
@@ -659,6 +734,43 @@ impl FeatureMap {
         Some(costs.at(distance_m).unwrap_or((0, false)))
     }
 
+    /// Cell `index` is an obstacle only because a fitted rock's base covers it (no tall point
+    /// of its own).
+    fn under_fitted_rock_only(&self, index: usize) -> bool {
+        self.domes.is_some()
+            && self
+                .beliefs
+                .as_ref()
+                .and_then(|layer| layer.belief(index))
+                .is_some_and(|belief| belief.extent_m().is_none() && !belief.lethal)
+    }
+
+    /// The footprint cost of cell `index` measured from the edge of the fitted rocks near it
+    /// (the kernel measures from whole cells, which a rock's base covers only in part):
+    /// lethal rocks at full cost, uncertain ones at half (`None` without fitted rocks).
+    fn cost_from_fitted_rocks(&self, index: usize) -> Option<(u32, bool)> {
+        let (domes, layer, costs) = (
+            self.domes.as_ref()?,
+            self.beliefs.as_ref()?,
+            self.footprint_costs.as_ref()?,
+        );
+        let mut worst: Option<(u32, bool)> = None;
+        domes.near(&self.geometry, index, costs.radius_m, |dome, gap_m| {
+            let cost = match layer.judge_rock(dome.height_m, dome.height_sigma_m) {
+                BeliefClass::Lethal => costs.at(gap_m.max(0.0)),
+                BeliefClass::Uncertain => {
+                    costs.at(gap_m.max(0.0)).map(|(cost, _)| (cost / 2, false))
+                }
+                _ => None,
+            };
+            if let Some((cost, lethal)) = cost {
+                let (best_cost, best_lethal) = worst.unwrap_or((0, false));
+                worst = Some((best_cost.max(cost), best_lethal | lethal));
+            }
+        });
+        worst
+    }
+
     fn derive_state(&self, index: usize) -> CellState {
         let base = self.base[index];
         let observed_by = self.stats[index].observed_by;
@@ -687,6 +799,9 @@ impl FeatureMap {
             }
             let neighbour = self.geometry.index(nx as u32, ny as u32);
             match self.base[neighbour].class {
+                // Ground under a fitted rock's unseen back: its costs are measured from the
+                // rock's edge (below), not from the whole cell.
+                BaseClass::Obstacle if self.under_fitted_rock_only(neighbour) => {}
                 BaseClass::Obstacle => {
                     let (cost, is_lethal) = self
                         .cost_from_extent(index, neighbour)
@@ -704,6 +819,10 @@ impl FeatureMap {
                 }
                 _ => {}
             }
+        }
+        if let Some((cost, is_lethal)) = self.cost_from_fitted_rocks(index) {
+            extra_cost = extra_cost.max(cost);
+            lethal |= is_lethal;
         }
         if base.class == BaseClass::Uncertain {
             extra_cost = extra_cost.max(self.thresholds.uncertain_cost);

@@ -27,11 +27,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::belief::CellBelief;
 use crate::cell::CellStats;
+use crate::dome_layer::CellPoints;
 use crate::geometry::GridGeometry;
 use crate::map::{FeatureMap, MapCounters};
 
-/// Version of the snapshot layout; bump when [`CellStats`] or [`CellBelief`] changes.
-pub const SNAPSHOT_VERSION: u32 = 3;
+/// Version of the snapshot layout; bump when [`CellStats`], [`CellBelief`] or [`CellPoints`]
+/// changes.
+pub const SNAPSHOT_VERSION: u32 = 4;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]
@@ -79,6 +81,8 @@ struct SnapshotRef<'a> {
     stats: &'a [CellStats],
     /// The `traversability` model's beliefs (empty under the `features` model).
     beliefs: &'a [CellBelief],
+    /// The fitted rocks' points by cell (empty without the fit).
+    dome_points: &'a [(u32, CellPoints)],
 }
 
 #[derive(Deserialize)]
@@ -88,16 +92,22 @@ struct SnapshotOwned {
     counters: MapCounters,
     stats: Vec<CellStats>,
     beliefs: Vec<CellBelief>,
+    dome_points: Vec<(u32, CellPoints)>,
 }
 
 /// Encodes the map's statistics into `buffer` (cleared first; its allocation is reused).
 pub fn encode(map: &FeatureMap, buffer: &mut Vec<u8>) -> Result<(), SnapshotError> {
     let beliefs = map.beliefs().map_or(&[][..], |layer| layer.beliefs());
+    let mut dome_points = Vec::new();
+    if let Some(domes) = map.domes() {
+        domes.stored_points_into(&mut dome_points);
+    }
     encode_parts(
         map.geometry(),
         map.counters(),
         map.stats_slice(),
         beliefs,
+        &dome_points,
         buffer,
     )
 }
@@ -108,6 +118,7 @@ pub(crate) fn encode_parts(
     counters: MapCounters,
     stats: &[CellStats],
     beliefs: &[CellBelief],
+    dome_points: &[(u32, CellPoints)],
     buffer: &mut Vec<u8>,
 ) -> Result<(), SnapshotError> {
     let snapshot = SnapshotRef {
@@ -116,6 +127,7 @@ pub(crate) fn encode_parts(
         counters,
         stats,
         beliefs,
+        dome_points,
     };
     hopnav_ipc::codec::encode_into(&snapshot, buffer)?;
     let limit = hopnav_ipc::codec::MAX_DECODE_BYTES;
@@ -153,6 +165,7 @@ pub fn restore(map: &mut FeatureMap, bytes: &[u8]) -> Result<(), SnapshotError> 
     // A snapshot of the other obstacle model has no beliefs (or the map keeps none): the
     // beliefs then start empty and the statistics alone come back.
     map.set_beliefs(&snapshot.beliefs);
+    map.set_dome_points(&snapshot.dome_points);
     Ok(())
 }
 

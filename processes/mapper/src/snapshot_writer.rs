@@ -11,6 +11,7 @@ use std::thread::JoinHandle;
 
 use crate::belief::CellBelief;
 use crate::cell::CellStats;
+use crate::dome_layer::CellPoints;
 use crate::map::FeatureMap;
 use crate::snapshot;
 
@@ -20,6 +21,7 @@ struct Job {
     counters: crate::map::MapCounters,
     stats: Vec<CellStats>,
     beliefs: Vec<CellBelief>,
+    dome_points: Vec<(u32, CellPoints)>,
     bytes: Vec<u8>,
 }
 
@@ -55,6 +57,7 @@ impl SnapshotWriter {
                         job.counters,
                         &job.stats,
                         &job.beliefs,
+                        &job.dome_points,
                         &mut job.bytes,
                     )
                     .and_then(|()| snapshot::write_file(&path, &job.bytes));
@@ -78,6 +81,7 @@ impl SnapshotWriter {
                 beliefs: map
                     .beliefs()
                     .map_or_else(Vec::new, |layer| layer.beliefs().to_vec()),
+                dome_points: Vec::new(),
                 bytes: Vec::with_capacity(size_of_val(map.stats_slice()) + 4096),
             }),
             worker: Some(worker),
@@ -106,6 +110,10 @@ impl SnapshotWriter {
             && layer.beliefs().len() == job.beliefs.len()
         {
             job.beliefs.copy_from_slice(layer.beliefs());
+        }
+        match map.domes() {
+            Some(domes) => domes.stored_points_into(&mut job.dome_points),
+            None => job.dome_points.clear(),
         }
         job.geometry = *map.geometry();
         job.counters = map.counters();

@@ -3,9 +3,12 @@
 //!
 //! Memory is one fixed array, allocated with the map.
 
+use hopnav_ipc::messages::Robot;
+
 use crate::belief::{BeliefClass, BeliefParams, CellBelief};
 use crate::config::MapperConfig;
 use crate::dirty::DirtySet;
+use crate::dome_layer::RockEvidence;
 use crate::geometry::GridGeometry;
 use crate::rays::for_each_cell_below;
 
@@ -14,10 +17,24 @@ use crate::rays::for_each_cell_below;
 /// rover meets is).
 const RAY_MAX_HEIGHT_M: f64 = 2.0;
 
+/// Where a point comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointSource {
+    /// The robot whose cloud it is.
+    pub robot: Robot,
+    /// The map's number of that cloud (a cell counts each cloud's vote once).
+    pub cloud: u32,
+    /// Where the camera stood, when known (the rover's: which side of a rock it saw).
+    pub camera_xy_m: Option<[f64; 2]>,
+}
+
 /// Per-cell beliefs of the whole grid.
 #[derive(Debug)]
 pub struct BeliefLayer {
     params: BeliefParams,
+    /// The same with the jumper's points judged one by one (see
+    /// [`BeliefParams::point_hit_sigmas`]).
+    jumper_params: BeliefParams,
     sigma_floor_m: f32,
     beliefs: Vec<CellBelief>,
     rays_counted: u64,
@@ -26,11 +43,16 @@ pub struct BeliefLayer {
 impl BeliefLayer {
     /// Unknown everywhere, for `cells` cells, with the rover's climb limit of `config`.
     pub fn new(config: &MapperConfig, cells: usize) -> Self {
+        let params = BeliefParams {
+            hit_sigmas: config.hit_sigmas as f32,
+            hit_margin_m: config.hit_margin_m as f32,
+            ..BeliefParams::new(config.rover_body.max_climbable_height_m)
+        };
         Self {
-            params: BeliefParams {
-                hit_sigmas: config.hit_sigmas as f32,
-                hit_margin_m: config.hit_margin_m as f32,
-                ..BeliefParams::new(config.rover_body.max_climbable_height_m)
+            params,
+            jumper_params: BeliefParams {
+                point_hit_sigmas: Some(config.jumper_height_sigma_factor as f32),
+                ..params
             },
             sigma_floor_m: config.height_sigma_floor_m as f32,
             beliefs: vec![CellBelief::default(); cells],
@@ -38,22 +60,29 @@ impl BeliefLayer {
         }
     }
 
-    /// A point of cloud `cloud` at `xy_m` in cell `index`, `height_m` above its local ground,
-    /// with a one-sigma height uncertainty `sigma_m` (raised to the configured floor), seen
-    /// from `camera_xy_m` when known.
+    /// A point of `source` at `xy_m` in cell `index`, `height_m` above its local ground, with
+    /// a one-sigma height uncertainty `sigma_m` (raised to the configured floor).
     pub fn add_point(
         &mut self,
         index: usize,
-        cloud: u32,
+        source: PointSource,
         xy_m: [f32; 2],
         height_m: f32,
         sigma_m: f32,
-        camera_xy_m: Option<[f64; 2]>,
     ) {
-        let sigma_m = sigma_m.hypot(self.sigma_floor_m);
+        let PointSource {
+            robot,
+            cloud,
+            camera_xy_m,
+        } = source;
+        let sigma_m = self.floored_sigma_m(sigma_m);
         let flank_m = 0.5 * self.params.climb_limit_m;
         if let Some(belief) = self.beliefs.get_mut(index) {
-            belief.add_point(&self.params, cloud, height_m, sigma_m);
+            let params = match robot {
+                Robot::Rover => &self.params,
+                Robot::Jumper => &self.jumper_params,
+            };
+            belief.add_point(params, cloud, height_m, sigma_m);
             if height_m >= flank_m {
                 belief.extend(xy_m);
                 if let Some([cx, cy]) = camera_xy_m {
@@ -105,6 +134,26 @@ impl BeliefLayer {
             .map_or(BeliefClass::Unknown, |belief| belief.class(&self.params))
     }
 
+    /// What a fitted rock of `height_m` ± `sigma_m` makes of the ground under it: lethal when
+    /// it stands a sigma above the climb limit (no margin: the fit models the dome, so its
+    /// height does not read low as a cell's top does), uncertain when it may stand above it,
+    /// traversable otherwise.
+    pub fn judge_rock(&self, height_m: f32, sigma_m: f32) -> BeliefClass {
+        let p = &self.params;
+        if height_m - sigma_m > p.climb_limit_m {
+            BeliefClass::Lethal
+        } else if height_m + p.confidence_sigmas * sigma_m > p.climb_limit_m {
+            BeliefClass::Uncertain
+        } else {
+            BeliefClass::Traversable
+        }
+    }
+
+    /// A height sigma raised to the configured floor, as the beliefs fuse it.
+    pub fn floored_sigma_m(&self, sigma_m: f32) -> f32 {
+        sigma_m.hypot(self.sigma_floor_m)
+    }
+
     /// The belief of cell `index`.
     pub fn belief(&self, index: usize) -> Option<&CellBelief> {
         self.beliefs.get(index)
@@ -136,6 +185,22 @@ impl BeliefLayer {
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
         self.beliefs.capacity() * size_of::<CellBelief>()
+    }
+}
+
+impl RockEvidence for BeliefLayer {
+    fn usable(&self, cell: usize) -> bool {
+        self.belief(cell).is_some_and(|belief| !belief.ray_cleared)
+    }
+
+    fn view_direction(&self, cell: usize) -> Option<[f32; 2]> {
+        self.belief(cell).and_then(CellBelief::view_direction)
+    }
+
+    fn seen_top(&self, cell: usize) -> Option<(f32, f32)> {
+        self.belief(cell)
+            .filter(|belief| belief.top_count >= 2)
+            .map(|belief| (belief.top_m, belief.top_sigma_m()))
     }
 }
 

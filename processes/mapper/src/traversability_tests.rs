@@ -262,3 +262,170 @@ fn the_width_prior_puts_a_half_seen_rocks_back_behind_its_face_not_in_front() {
     // towards the rover.
     assert!(!lethal_at(1.0, 1.15));
 }
+
+fn dome_map() -> FeatureMap {
+    let config = MapperConfig {
+        dome_base_per_height: 1.0,
+        ..config()
+    };
+    let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
+    FeatureMap::new(&config, geometry)
+}
+
+fn blocks(map: &FeatureMap, x_m: f64, y_m: f64) -> bool {
+    matches!(
+        class_at(map, x_m, y_m),
+        CellClass::Lethal | CellClass::Obstacle
+    )
+}
+
+#[test]
+fn a_fitted_dome_covers_the_back_of_a_half_seen_rock() {
+    // A 0.3 m tall rock of 0.3 m radius at (2, 0); the rover, 1 m up at the origin, sees
+    // only its near half.
+    let near_half = rover_cloud((0.5, 2.0), (-1.0, 1.0), &[([2.0, 0.0], 0.3, 0.3)]);
+    let (mut plain, mut fitted) = (map(), dome_map());
+    for map in [&mut plain, &mut fitted] {
+        for _ in 0..3 {
+            map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &near_half);
+            map.update();
+        }
+    }
+    // The unseen back half of the rock is the rock's only with the fit, and so is the
+    // ground within the inscribed radius of its back edge (x = 2.3).
+    assert_eq!(class_at(&fitted, 2.2, 0.1), CellClass::Obstacle);
+    assert!(blocks(&fitted, 2.55, 0.1));
+    assert!(!blocks(&plain, 2.55, 0.1));
+    // Beyond the back edge by the inscribed radius and more, the ground stays open; in
+    // front, the margin is not pushed towards the rover.
+    assert!(!blocks(&fitted, 2.9, 0.1));
+    assert!(!blocks(&fitted, 1.15, 0.1));
+    let dome = fitted.domes().expect("fit on");
+    let geometry = geometry_of(&fitted);
+    let (x, y) = geometry.cell_of(1.9, 0.1).expect("inside");
+    let mut rocks = Vec::new();
+    dome.near(&geometry, geometry.index(x, y), 0.0, |rock, _| {
+        rocks.push(*rock)
+    });
+    let rock = rocks.first().expect("a dome over the rock");
+    assert!((rock.height_m - 0.3).abs() < 0.05, "{rock:?}");
+    assert!((rock.centre_m[0] - 2.0).abs() < 0.1, "{rock:?}");
+}
+
+#[test]
+fn the_fit_keeps_the_corridor_and_lets_rover_stereo_clear_a_false_wall() {
+    let mut map = dome_map();
+    let rocks = [([1.0, -0.85], 0.3, 0.3), ([1.0, 0.85], 0.3, 0.3)];
+    for _ in 0..3 {
+        map.insert_cloud_seen_from(
+            Robot::Rover,
+            Some([-2.0, 0.0, 1.0]),
+            &rover_cloud((-1.0, 3.0), (-2.0, 2.0), &rocks),
+        );
+        map.update();
+    }
+    assert!(blocks(&map, 1.0, -0.85) && blocks(&map, 1.0, 0.85));
+    assert!(
+        !blocks(&map, 1.0, 0.125) || !blocks(&map, 1.0, -0.125),
+        "the gap closed"
+    );
+    // A misplaced jumper cloud's compact blob of 0.5 m points fits a dome at (5, 5) …
+    let blob: Vec<FeaturePoint> = (0..25)
+        .map(|i| {
+            let (dx, dy) = (0.05 * (i % 5) as f32, 0.05 * (i / 5) as f32);
+            point(5.0 + dx, 5.0 + dy, 0.5, 0.5 - dx, 0.02)
+        })
+        .collect();
+    map.insert_cloud(Robot::Jumper, &blob);
+    map.insert_cloud(Robot::Jumper, &blob);
+    map.update();
+    assert!(blocks(&map, 5.1, 5.1));
+    // … which the rover's rays to the bare ground behind it refute.
+    let ground = rover_cloud((5.6, 6.5), (4.0, 6.0), &[]);
+    for _ in 0..6 {
+        map.insert_cloud_seen_from(Robot::Rover, Some([3.0, 5.1, 1.0]), &ground);
+        while {
+            map.update();
+            map.pending_cells() > 0
+        } {}
+    }
+    assert!(!blocks(&map, 5.1, 5.1), "the blob stayed");
+}
+
+#[test]
+fn a_snapshot_keeps_the_fitted_rocks() {
+    let mut map = dome_map();
+    let near_half = rover_cloud((0.5, 2.0), (-1.0, 1.0), &[([2.0, 0.0], 0.3, 0.3)]);
+    for _ in 0..3 {
+        map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &near_half);
+        map.update();
+    }
+    let mut bytes = Vec::new();
+    crate::snapshot::encode(&map, &mut bytes).expect("encode");
+    let mut restored = dome_map();
+    crate::snapshot::restore(&mut restored, &bytes).expect("restore");
+    while {
+        restored.update();
+        restored.pending_cells() > 0
+    } {}
+    assert_eq!(class_at(&restored, 2.2, 0.1), CellClass::Obstacle);
+}
+
+#[test]
+fn ground_seen_under_a_claimed_dome_refutes_it() {
+    // An arc of 0.14–0.2 m points 0.3 m in front of (2.3, 0), as the near flank of a
+    // 0.33 m dome would give, but the ground behind the arc, where that dome's top would
+    // stand, was seen bare: a low ridge of things, not a rock.
+    let arc: Vec<FeaturePoint> = (0..9)
+        .map(|i| {
+            let angle = std::f32::consts::PI + (i as f32 - 4.0) * 0.12;
+            let (x, y) = (2.3 + 0.3 * angle.cos(), 0.3 * angle.sin());
+            let height_m = 0.14 + 0.015 * (i % 5) as f32;
+            point(x, y, height_m, height_m, 0.02)
+        })
+        .collect();
+    let ground = rover_cloud((2.2, 3.0), (-0.6, 0.6), &[]);
+    let run = |with_ground: bool| {
+        let mut map = dome_map();
+        for _ in 0..3 {
+            map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &arc);
+            if with_ground {
+                map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &ground);
+            }
+            while {
+                map.update();
+                map.pending_cells() > 0
+            } {}
+        }
+        // The cell under the dome's top (the arc's own cells inflate in both cases).
+        class_at(&map, 2.3, 0.1) == CellClass::Obstacle
+    };
+    assert!(run(false), "the arc alone fits a tall dome");
+    assert!(!run(true), "the bare ground did not refute it");
+}
+
+#[test]
+fn the_noisy_points_of_a_low_rock_fit_no_tall_dome() {
+    // A 0.12 m rock of 0.25 m radius at (2, 0), its points ± 4 cm off (a deterministic
+    // pattern), the bare ground seen around it: its tallest points read 0.16 m, which the
+    // fit could take for the flank of a dome twice as tall set behind them.
+    let mut map = dome_map();
+    let mut cloud = rover_cloud((0.5, 3.0), (-1.0, 1.0), &[([2.0, 0.0], 0.25, 0.12)]);
+    for (i, p) in cloud.iter_mut().enumerate() {
+        if p.height_above_ground_m > 0.0 {
+            let noise_m = [0.04, -0.02, 0.03, -0.04, 0.0][i % 5];
+            p.height_above_ground_m += noise_m;
+            p.position_m[2] += noise_m;
+        }
+    }
+    for _ in 0..3 {
+        map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &cloud);
+        while {
+            map.update();
+            map.pending_cells() > 0
+        } {}
+    }
+    for x_m in [1.8, 2.0, 2.2, 2.4] {
+        assert!(!blocks(&map, x_m, 0.1), "blocked at x = {x_m}");
+    }
+}

@@ -10,6 +10,7 @@ use std::collections::{HashMap, HashSet};
 
 use serde::{Deserialize, Serialize};
 
+use crate::belief::BeliefClass;
 use crate::dirty::DirtySet;
 use crate::dome::{self, DomeFit, RockPoint};
 use crate::geometry::GridGeometry;
@@ -36,6 +37,8 @@ pub trait RockEvidence {
     /// The top of what was seen in the cell and its sigma, metres above the local ground
     /// (`None` when nothing was).
     fn seen_top(&self, cell: usize) -> Option<(f32, f32)>;
+    /// What a rock of this height and sigma makes of the ground under it.
+    fn judge(&self, height_m: f32, sigma_m: f32) -> BeliefClass;
 }
 
 /// One stored point.
@@ -82,7 +85,25 @@ pub struct Dome {
     pub height_sigma_m: f32,
 }
 
+/// A refit whose base lies within this of the rock it replaces keeps that rock, metres …
+const SETTLED_M: f32 = 0.03;
+/// … when its height and height sigma moved less than this plus a quarter of the old
+/// sigma, metres (they decide whether the rock is too tall, within its sigma anyway).
+const SETTLED_HEIGHT_M: f32 = 0.005;
+
 impl Dome {
+    /// Within [`SETTLED_M`] of `old` in centre and radius, [`SETTLED_HEIGHT_M`] and a
+    /// quarter of its sigma in height and height sigma.
+    fn settled_near(&self, old: &Self) -> bool {
+        let moved_m =
+            (self.centre_m[0] - old.centre_m[0]).hypot(self.centre_m[1] - old.centre_m[1]);
+        let height_tolerance_m = SETTLED_HEIGHT_M + 0.25 * old.height_sigma_m;
+        moved_m < SETTLED_M
+            && (self.base_radius_m - old.base_radius_m).abs() < SETTLED_M
+            && (self.height_m - old.height_m).abs() < height_tolerance_m
+            && (self.height_sigma_m - old.height_sigma_m).abs() < height_tolerance_m
+    }
+
     fn from_fit(fit: &DomeFit) -> Self {
         Self {
             centre_m: [fit.centre_m[0] as f32, fit.centre_m[1] as f32],
@@ -170,17 +191,34 @@ impl DomeLayer {
             let rock = self.rock_cells(geometry, start, evidence);
             done.extend(rock.iter().copied());
             // The rocks these cells belonged to go; their other cells are fitted again.
+            let mut released: Vec<Dome> = Vec::new();
             for &cell in rock.iter().chain(std::iter::once(&start)) {
                 if let Some((old, cells)) = self.release(self.rock_of_cell[cell as usize]) {
-                    mark_covered(geometry, &old, changed);
+                    released.push(old);
                     queue.extend(cells.into_iter().filter(|c| !done.contains(c)));
                 }
             }
             let fit = self.fit(&rock, evidence).filter(|dome| {
                 !contradicted(geometry, dome, self.base_per_height, &self.points, evidence)
             });
+            // A new point moves a fitted rock by millimetres: the rock it was stays, and the
+            // map and the planner are spared a restate of its whole inflation every frame.
+            let fit = match (fit, released.as_slice()) {
+                (Some(new), [old])
+                    if new.settled_near(old)
+                        && evidence.judge(new.height_m, new.height_sigma_m)
+                            == evidence.judge(old.height_m, old.height_sigma_m) =>
+                {
+                    Some(*old)
+                }
+                (fit, _) => {
+                    for old in released.iter().chain(fit.iter()) {
+                        mark_covered(geometry, old, changed);
+                    }
+                    fit
+                }
+            };
             if let Some(dome) = fit {
-                mark_covered(geometry, &dome, changed);
                 let slot = match self.free.pop() {
                     Some(slot) => slot,
                     None => {
@@ -430,5 +468,136 @@ fn for_cells_within(
         for x in x0..=x1 {
             each(geometry.index(x, y));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every cell usable, seen from −x, nothing seen of the ground.
+    struct Unrefuted;
+
+    impl RockEvidence for Unrefuted {
+        fn usable(&self, _: usize) -> bool {
+            true
+        }
+        fn view_direction(&self, _: usize) -> Option<[f32; 2]> {
+            Some([1.0, 0.0])
+        }
+        fn seen_top(&self, _: usize) -> Option<(f32, f32)> {
+            None
+        }
+        fn judge(&self, height_m: f32, _: f32) -> BeliefClass {
+            if height_m > 0.2 {
+                BeliefClass::Lethal
+            } else {
+                BeliefClass::Traversable
+            }
+        }
+    }
+
+    fn geometry() -> GridGeometry {
+        GridGeometry {
+            origin_x_m: 0.0,
+            origin_y_m: 0.0,
+            cell_size_m: 0.25,
+            width_cells: 40,
+            height_cells: 40,
+        }
+    }
+
+    /// Adds the near-face points of a 0.3 m dome at (5, 5), each `offset_m` higher.
+    fn add_face(layer: &mut DomeLayer, geometry: &GridGeometry, offset_m: f32) {
+        for (dx, dy) in [
+            (-0.25, 0.0),
+            (-0.2, 0.12),
+            (-0.2, -0.12),
+            (-0.1, 0.05),
+            (-0.15, -0.2),
+        ] {
+            let (x, y) = (5.0 + dx, 5.0 + dy);
+            let (cx, cy) = geometry
+                .cell_of(f64::from(x), f64::from(y))
+                .expect("inside");
+            let height_m = (0.09f32 - dx * dx - dy * dy).sqrt() + offset_m;
+            layer.add_point(
+                geometry.index(cx, cy),
+                StoredPoint {
+                    xy_m: [x, y],
+                    height_m,
+                    sigma_m: 0.02,
+                },
+            );
+        }
+    }
+
+    fn refit(layer: &mut DomeLayer, geometry: &GridGeometry) -> (usize, usize) {
+        let cells = geometry.cell_count();
+        let (mut reclassify, mut restate) = (DirtySet::new(cells), DirtySet::new(cells));
+        layer.refit(
+            geometry,
+            &Unrefuted,
+            &mut Changed {
+                reclassify: &mut reclassify,
+                restate: &mut restate,
+                inflation_m: 1.0,
+            },
+        );
+        (reclassify.len(), restate.len())
+    }
+
+    #[test]
+    fn a_rock_is_fitted_once_and_kept_while_new_points_agree() {
+        let geometry = geometry();
+        let mut layer = DomeLayer::new(geometry.cell_count(), 1.0, 0.1);
+        add_face(&mut layer, &geometry, 0.0);
+        let (reclassify, restate) = refit(&mut layer, &geometry);
+        assert!(reclassify > 0 && restate > reclassify);
+        let rocks: Vec<Dome> = layer.rocks().copied().collect();
+        assert_eq!(rocks.len(), 1);
+        // One more point on the same face: the rock stays, nothing is restated.
+        let (cx, cy) = geometry.cell_of(4.85, 5.0).expect("inside");
+        let point = StoredPoint {
+            xy_m: [4.85, 5.0],
+            height_m: (0.09f32 - 0.15 * 0.15).sqrt(),
+            sigma_m: 0.02,
+        };
+        layer.add_point(geometry.index(cx, cy), point);
+        assert_eq!(refit(&mut layer, &geometry), (0, 0));
+        assert_eq!(layer.rocks().copied().collect::<Vec<_>>(), rocks);
+        // Seen 10 cm taller: the rock is fitted anew.
+        add_face(&mut layer, &geometry, 0.1);
+        add_face(&mut layer, &geometry, 0.1);
+        assert_ne!(refit(&mut layer, &geometry), (0, 0));
+        assert!(layer.rocks().all(|rock| rock.height_m > rocks[0].height_m));
+    }
+
+    #[test]
+    fn low_and_bad_points_are_not_kept() {
+        let geometry = geometry();
+        let mut layer = DomeLayer::new(geometry.cell_count(), 1.0, 0.1);
+        for (height_m, sigma_m) in [(0.05, 0.02), (f32::NAN, 0.02), (0.3, 0.0), (0.3, f32::NAN)] {
+            layer.add_point(
+                3,
+                StoredPoint {
+                    xy_m: [0.8, 0.1],
+                    height_m,
+                    sigma_m,
+                },
+            );
+        }
+        layer.add_point(
+            usize::MAX,
+            StoredPoint {
+                xy_m: [0.0, 0.0],
+                height_m: 0.3,
+                sigma_m: 0.02,
+            },
+        );
+        let mut out = Vec::new();
+        layer.stored_points_into(&mut out);
+        assert!(out.is_empty());
+        assert_eq!(refit(&mut layer, &geometry), (0, 0));
     }
 }

@@ -202,6 +202,10 @@ impl RockEvidence for BeliefLayer {
             .filter(|belief| belief.top_count >= 2)
             .map(|belief| (belief.top_m, belief.top_sigma_m()))
     }
+
+    fn judge(&self, height_m: f32, sigma_m: f32) -> BeliefClass {
+        self.judge_rock(height_m, sigma_m)
+    }
 }
 
 #[cfg(test)]

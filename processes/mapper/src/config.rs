@@ -115,10 +115,11 @@ pub struct MapperConfig {
     /// seen face away from the rover's camera (0 = from the tall points only). Measured in
     /// docs/experiments/2026-12-06-traversability-first-measurements.md.
     pub rock_width_prior: f64,
-    /// `traversability`: the tall points of touching cells are fitted as one rock, a dome
-    /// whose base radius is this many times its height ([`crate::dome`]; Golombek's rocks
-    /// and the world's are about twice as wide as tall: 1.0), and the ground under its base,
-    /// unseen back included, is the rock's. 0 = no fit: the cells' own beliefs only.
+    /// `traversability`: the rover's tall points of touching cells are fitted as one rock, a
+    /// dome ([`crate::dome`]) whose base radius is expected to be this many times its height
+    /// (Golombek's rocks and the world's are about twice as wide as tall: 1.0; the points may
+    /// make it flatter or steeper, within ×0.5–×2), and the ground under its base, unseen
+    /// back included, is the rock's. 0 = no fit: the cells' own beliefs only.
     pub dome_base_per_height: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
@@ -148,7 +149,7 @@ pub enum ObstacleModel {
 impl Default for MapperConfig {
     fn default() -> Self {
         Self {
-            cell_size_m: 0.5,
+            cell_size_m: 0.25,
             origin_x_m: None,
             origin_y_m: None,
             width_cells: None,
@@ -173,12 +174,12 @@ impl Default for MapperConfig {
             snapshot_every_frames: 50,
             republish_every_frames: 20,
             oracle_prior_map: false,
-            obstacle_model: ObstacleModel::Features,
+            obstacle_model: ObstacleModel::Traversability,
             height_sigma_floor_m: 0.03,
             hit_sigmas: 0.5,
             hit_margin_m: 0.03,
             rock_width_prior: 0.0,
-            dome_base_per_height: 0.0,
+            dome_base_per_height: 1.0,
             cost_scaling_per_m: 3.0,
             uncertain_cost: 1500,
             rover_body: hopnav_robot::RoverBody::default(),
@@ -391,7 +392,7 @@ mod tests {
             .resolve_geometry((64.0, 64.0))
             .expect("valid");
         assert_eq!(geometry.origin_x_m, -32.0);
-        assert_eq!((geometry.width_cells, geometry.height_cells), (128, 128));
+        assert_eq!((geometry.width_cells, geometry.height_cells), (256, 256));
     }
 
     #[test]

@@ -1,17 +1,18 @@
 //! Fits one rock to the points stereo saw on it: a dome (half a spheroid) standing on the
-//! local ground, whose base radius is `base_per_height` times its height.
+//! local ground, of height `H` and base radius `c·H`.
 //!
 //! Why: a camera sees a rock's near face only, and features sit on its corners and flanks,
 //! so the tallest point under-reads the rock and the points' box leaves its back out. Rocks
 //! are domes about twice as wide as tall (Golombek's rock model, and the world's
 //! ellipsoids): each point at height `z` and horizontal distance `d` from the centre then
-//! satisfies `(d / base_per_height)² + z² = H²`, and a few points on the near face fix the
-//! centre behind them and the height above them, as a few points on an arc fix a circle.
+//! satisfies `(d / c)² + z² = H²`, and a few points on the near face fix the centre behind
+//! them and the height above them, as a few points on an arc fix a circle.
 //!
-//! Weighted Gauss–Newton over (centre x, centre y, height) with Cauchy weights, and a weak
-//! prior that keeps the centre near where the points say it starts.
+//! Gauss–Newton over (centre x, centre y, `H`, `c`) with Cauchy weights (a stereo mismatch
+//! weighs almost nothing), weak priors on the centre and the height, and a prior on the
+//! shape `c` around the expected one (points across a flat rock's top say it is flat).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix4, Vector4};
 
 /// One point on a rock, world metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,17 +45,24 @@ pub const MIN_POINTS: usize = 4;
 /// A fit whose residuals exceed this many sigmas (RMS) is not one dome (a cluster, a wall
 /// of misplaced points): no fit.
 const MAX_RMS_SIGMAS: f64 = 3.0;
+/// A point this many sigmas off the dome is an outlier …
+const OUTLIER_SIGMAS: f64 = 3.0;
+/// … and a dome that leaves more than this fraction of the points off is no dome.
+const MAX_OUTLIER_FRACTION: f64 = 0.25;
 /// The Cauchy loss's scale, sigmas (a redescending loss: a point many sigmas off, a stereo
 /// mismatch, weighs almost nothing, where Huber's would still pull the dome).
 const CAUCHY_SIGMAS: f64 = 2.5;
 /// The prior on the centre, metres (weak: the points decide).
 const CENTRE_PRIOR_SIGMA_M: f64 = 0.5;
+/// The prior on the shape (base radius per height), as a fraction of the expected shape:
+/// rocks differ, and points across a flat rock's top say it is flat.
+const SHAPE_PRIOR_FRACTION: f64 = 0.3;
 /// The prior on the height, metres (weak: a few points on the near face outweigh it, but no
 /// metre-tall dome explains a 0.3 m rock's face).
 const HEIGHT_PRIOR_SIGMA_M: f64 = 0.1;
 const ITERATIONS: usize = 12;
 
-/// Fits a dome of shape `base_per_height` to `points`, starting behind them along
+/// Fits a dome of expected shape `base_per_height` to `points`, starting behind them along
 /// `view_direction` (the horizontal unit vector from the camera towards the points; `None`
 /// for a view from above). `None` when the points are too few, not finite or fit no dome.
 ///
@@ -89,7 +97,6 @@ pub fn fit_dome(
     if points.len() < MIN_POINTS || !(base_per_height.is_finite() && base_per_height > 0.0) {
         return None;
     }
-    let c2 = base_per_height * base_per_height;
     let direction = view_direction
         .filter(|d| d.iter().all(|v| v.is_finite()) && d[0].hypot(d[1]) > 1e-6)
         .map_or([0.0, 0.0], |d| {
@@ -110,6 +117,7 @@ pub fn fit_dome(
             f64::from(anchor.xy_m[1]) + direction[1] * behind_m,
         ],
         height_m: height0,
+        shape: base_per_height,
     };
     // Two starts, kept by the lower robust cost: from the priors, and from the tallest point.
     let tallest = by_height[0];
@@ -126,13 +134,13 @@ pub fn fit_dome(
     let state = starts
         .iter()
         .filter_map(|&(centre_m, height_m)| {
-            let state = refine(&points, c2, &prior, centre_m, height_m)?;
-            let (_, _, _, cost) = normal_equations(&points, c2, &state, &prior);
+            let state = refine(&points, &prior, centre_m, height_m)?;
+            let (_, _, _, cost) = normal_equations(&points, &state, &prior);
             Some((cost, state))
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, state)| state)?;
-    let (normal, _, squared, _) = normal_equations(&points, c2, &state, &prior);
+    let (normal, _, squared, _) = normal_equations(&points, &state, &prior);
     let rms = (squared / points.len() as f64).sqrt();
     let covariance = normal.try_inverse()?;
     let height_sigma_m = covariance[(2, 2)].max(0.0).sqrt() * rms.max(1.0);
@@ -140,7 +148,7 @@ pub fn fit_dome(
         centre_m: [state[0], state[1]],
         height_m: state[2],
         height_sigma_m,
-        base_radius_m: base_per_height * state[2],
+        base_radius_m: state[3] * state[2],
         rms_sigmas: rms,
     };
     let finite = [
@@ -151,30 +159,39 @@ pub fn fit_dome(
     ]
     .iter()
     .all(|v| v.is_finite());
-    // The RMS counts outliers at full weight: judge the fit by its inliers.
-    (finite && robust_rms(&points, c2, &state) <= MAX_RMS_SIGMAS).then_some(fit)
+    // The RMS counts outliers at full weight: judge the fit by its inliers, and by how many
+    // points are inliers (a wall or a cluster leaves many points off any one dome).
+    let outliers = points
+        .iter()
+        .filter(|p| residual_and_jacobian(p, &state).0.abs() > OUTLIER_SIGMAS)
+        .count();
+    let inliers_ok = (outliers as f64) <= MAX_OUTLIER_FRACTION * points.len() as f64;
+    (finite && inliers_ok && robust_rms(&points, &state) <= MAX_RMS_SIGMAS).then_some(fit)
 }
 
 /// Where the dome is expected before its points are weighed.
 struct Prior {
     centre_m: [f64; 2],
     height_m: f64,
+    /// Base radius per height.
+    shape: f64,
 }
 
-/// Gauss–Newton from (`centre_m`, `height_m`).
+/// Gauss–Newton from (`centre_m`, `height_m`) and the prior's shape; the state is
+/// (centre x, centre y, height, base radius per height).
 fn refine(
     points: &[&RockPoint],
-    c2: f64,
     prior: &Prior,
     centre_m: [f64; 2],
     height_m: f64,
-) -> Option<Vector3<f64>> {
-    let mut state = Vector3::new(centre_m[0], centre_m[1], height_m);
+) -> Option<Vector4<f64>> {
+    let mut state = Vector4::new(centre_m[0], centre_m[1], height_m, prior.shape);
     for _ in 0..ITERATIONS {
-        let (normal, gradient, _, _) = normal_equations(points, c2, &state, prior);
+        let (normal, gradient, _, _) = normal_equations(points, &state, prior);
         let step = normal.lu().solve(&(-gradient))?;
         state += step;
         state[2] = state[2].max(1e-3);
+        state[3] = state[3].clamp(0.5 * prior.shape, 2.0 * prior.shape);
         if step.norm() < 1e-5 {
             break;
         }
@@ -184,10 +201,10 @@ fn refine(
 
 /// RMS of the residuals (sigmas), each weighted as the Cauchy loss weighs it (an outlier
 /// does not fail a good fit).
-fn robust_rms(points: &[&RockPoint], c2: f64, state: &Vector3<f64>) -> f64 {
+fn robust_rms(points: &[&RockPoint], state: &Vector4<f64>) -> f64 {
     let (mut weighted, mut weights) = (0.0, 0.0);
     for p in points {
-        let residual = residual_and_jacobian(p, c2, state).0;
+        let residual = residual_and_jacobian(p, state).0;
         let weight = 1.0 / (1.0 + (residual / CAUCHY_SIGMAS).powi(2));
         weighted += weight * residual * residual;
         weights += weight;
@@ -195,32 +212,34 @@ fn robust_rms(points: &[&RockPoint], c2: f64, state: &Vector3<f64>) -> f64 {
     (weighted / weights.max(1e-12)).sqrt()
 }
 
-fn residual_and_jacobian(p: &RockPoint, c2: f64, state: &Vector3<f64>) -> (f64, Vector3<f64>) {
+/// The point's residual in sigmas, `sqrt(d²/c² + z²) − H`, and its gradient.
+fn residual_and_jacobian(p: &RockPoint, state: &Vector4<f64>) -> (f64, Vector4<f64>) {
     let (ex, ey) = (
         f64::from(p.xy_m[0]) - state[0],
         f64::from(p.xy_m[1]) - state[1],
     );
     let z = f64::from(p.height_m);
-    let s = ((ex * ex + ey * ey) / c2 + z * z).sqrt().max(1e-6);
+    let c = state[3];
+    let (c2, d2) = (c * c, ex * ex + ey * ey);
+    let s = (d2 / c2 + z * z).sqrt().max(1e-6);
     let sigma = f64::from(p.sigma_m);
     let residual = (s - state[2]) / sigma;
-    let jacobian = Vector3::new(-ex / (c2 * s), -ey / (c2 * s), -1.0) / sigma;
+    let jacobian = Vector4::new(-ex / (c2 * s), -ey / (c2 * s), -1.0, -d2 / (c2 * c * s)) / sigma;
     (residual, jacobian)
 }
 
-/// JᵀWJ and JᵀWr of the residuals at `state` (Cauchy-weighted, with the centre's prior), Σ r²
+/// JᵀWJ and JᵀWr of the residuals at `state` (Cauchy-weighted, with the priors), Σ r²
 /// (unweighted, in sigmas) and the robust cost.
 fn normal_equations(
     points: &[&RockPoint],
-    c2: f64,
-    state: &Vector3<f64>,
+    state: &Vector4<f64>,
     prior: &Prior,
-) -> (Matrix3<f64>, Vector3<f64>, f64, f64) {
-    let mut normal = Matrix3::zeros();
-    let mut gradient = Vector3::zeros();
+) -> (Matrix4<f64>, Vector4<f64>, f64, f64) {
+    let mut normal = Matrix4::zeros();
+    let mut gradient = Vector4::zeros();
     let (mut squared, mut cost) = (0.0, 0.0);
     for p in points {
-        let (residual, jacobian) = residual_and_jacobian(p, c2, state);
+        let (residual, jacobian) = residual_and_jacobian(p, state);
         let ratio2 = (residual / CAUCHY_SIGMAS).powi(2);
         cost += 0.5 * CAUCHY_SIGMAS * CAUCHY_SIGMAS * ratio2.ln_1p();
         let weight = 1.0 / (1.0 + ratio2);
@@ -232,13 +251,15 @@ fn normal_equations(
         state[0] - prior.centre_m[0],
         state[1] - prior.centre_m[1],
         state[2] - prior.height_m,
+        state[3] - prior.shape,
     ];
     let sigmas = [
         CENTRE_PRIOR_SIGMA_M,
         CENTRE_PRIOR_SIGMA_M,
         HEIGHT_PRIOR_SIGMA_M,
+        SHAPE_PRIOR_FRACTION * prior.shape,
     ];
-    for axis in 0..3 {
+    for axis in 0..4 {
         let information = 1.0 / (sigmas[axis] * sigmas[axis]);
         normal[(axis, axis)] += information;
         gradient[axis] += information * offsets[axis];

@@ -217,7 +217,10 @@ mod tests {
 
     #[test]
     fn the_kernel_follows_the_obstacle_model() {
-        let mut config = crate::config::MapperConfig::default();
+        let mut config = crate::config::MapperConfig {
+            obstacle_model: crate::config::ObstacleModel::Features,
+            ..crate::config::MapperConfig::default()
+        };
         assert_eq!(
             kernel_for(&config, 0.5),
             inflation_kernel(0.5, 1.0, 0.75, 2000)

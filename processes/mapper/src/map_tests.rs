@@ -2,8 +2,13 @@
 
 use super::*;
 
+/// The first mapper's rule on 0.5 m cells (the `traversability` model has its own tests).
 fn config() -> MapperConfig {
-    MapperConfig::default()
+    MapperConfig {
+        obstacle_model: crate::config::ObstacleModel::Features,
+        cell_size_m: 0.5,
+        ..MapperConfig::default()
+    }
 }
 
 /// 16 m × 16 m, origin (−8, −8), 0.5 m cells.

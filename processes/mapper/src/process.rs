@@ -291,7 +291,7 @@ mod tests {
         let section = mapper_section(&config).expect("valid");
         let geometry = grid_geometry(&section).expect("explicit");
         assert_eq!((geometry.origin_x_m, geometry.origin_y_m), (-32.0, -32.0));
-        assert_eq!((geometry.width_cells, geometry.height_cells), (128, 128));
+        assert_eq!((geometry.width_cells, geometry.height_cells), (256, 256));
     }
 
     #[test]
@@ -328,6 +328,6 @@ mod tests {
         let config = hopnav_config::load(Some(text)).expect("toml");
         let geometry = grid_geometry(&mapper_section(&config).expect("valid")).expect("grid");
         assert_eq!((geometry.origin_x_m, geometry.width_cells), (0.0, 10));
-        assert_eq!((geometry.origin_y_m, geometry.height_cells), (-16.0, 64));
+        assert_eq!((geometry.origin_y_m, geometry.height_cells), (-16.0, 128));
     }
 }

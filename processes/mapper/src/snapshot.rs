@@ -197,10 +197,19 @@ mod tests {
     use hopnav_ipc::messages::{CellClass, FeaturePoint, Robot};
 
     use super::*;
-    use crate::config::MapperConfig;
+    use crate::config::{MapperConfig, ObstacleModel};
+
+    /// The first rule's statistics (the `traversability` model's beliefs and rocks have their
+    /// own snapshot test in `traversability_tests.rs`).
+    fn config() -> MapperConfig {
+        MapperConfig {
+            obstacle_model: ObstacleModel::Features,
+            ..MapperConfig::default()
+        }
+    }
 
     fn map_with_rock() -> FeatureMap {
-        let config = MapperConfig::default();
+        let config = config();
         let mut map = FeatureMap::new(&config, config.resolve_geometry((8.0, 8.0)).unwrap());
         let mut cloud = Vec::new();
         for i in 0..40 {
@@ -229,7 +238,7 @@ mod tests {
         let mut bytes = Vec::new();
         encode(&original, &mut bytes).unwrap();
 
-        let config = MapperConfig::default();
+        let config = config();
         let mut restored = FeatureMap::new(&config, *original.geometry());
         restore(&mut restored, &bytes).unwrap();
         restored.update();
@@ -252,7 +261,7 @@ mod tests {
         let map = map_with_rock();
         let mut bytes = Vec::new();
         encode(&map, &mut bytes).unwrap();
-        let config = MapperConfig::default();
+        let config = config();
         let mut other = FeatureMap::new(&config, config.resolve_geometry((9.0, 8.0)).unwrap());
         assert!(matches!(
             restore(&mut other, &bytes),
@@ -277,7 +286,7 @@ mod tests {
         let mut bytes = Vec::new();
         encode(&map, &mut bytes).unwrap();
         write_file(&path, &bytes).unwrap();
-        let config = MapperConfig::default();
+        let config = config();
         let mut restored = FeatureMap::new(&config, *map.geometry());
         assert!(restore_file(&mut restored, &path).unwrap());
         assert!(!restore_file(&mut restored, &dir.join("none.bin")).unwrap());

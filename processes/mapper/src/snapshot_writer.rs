@@ -153,7 +153,11 @@ mod tests {
         let config = MapperConfig::default();
         let geometry = config.resolve_geometry((8.0, 8.0)).expect("valid");
         let mut map = FeatureMap::new(&config, geometry);
-        map.insert_cloud(Robot::Rover, &[FeaturePoint::default(); 5]);
+        let point = FeaturePoint {
+            depth_sigma_m: 0.02,
+            ..FeaturePoint::default()
+        };
+        map.insert_cloud(Robot::Rover, &[point; 5]);
         let dir = std::env::temp_dir().join(format!("hopnav-mapper-writer-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("dir");
         let path = dir.join("map.bin");

@@ -108,8 +108,8 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     let (cells, header) = receive_all(&updates);
     let header = header.expect("a header on the first frame");
     assert!(cells.is_empty());
-    assert_eq!((header.width_cells, header.height_cells), (128, 128));
-    assert_eq!((header.origin_x_m, header.cell_size_m), (-32.0, 0.5));
+    assert_eq!((header.width_cells, header.height_cells), (256, 256));
+    assert_eq!((header.origin_x_m, header.cell_size_m), (-32.0, 0.25));
 
     // Frame 1: two rover keyframes with a rock (one cloud alone makes no obstacle), plus a
     // cloud that claims the wrong robot.
@@ -121,7 +121,7 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     assert_eq!(header.expect("changes").stamp.frame_index, 1);
     let rock = cells
         .iter()
-        .find(|c| (c.x, c.y) == (66, 66))
+        .find(|c| (c.x, c.y) == (132, 132))
         .expect("rock cell published");
     assert_eq!(rock.class, CellClass::Obstacle.code());
     assert_eq!(rock.observed_by, 1 << Robot::Rover.code());
@@ -177,10 +177,10 @@ fn the_oracle_prior_map_starts_with_the_worlds_rocks() {
         mapper.step(&context, &tick(frame)).expect("step");
         cells.extend(receive_all(&updates).0);
     }
-    // (5.2, 5.2) lies in cell (74, 74) of the 0.5 m grid from (−32, −32).
+    // (5.2, 5.2) lies in cell (148, 148) of the 0.25 m grid from (−32, −32).
     let rock = cells
         .iter()
-        .rfind(|c| (c.x, c.y) == (74, 74))
+        .rfind(|c| (c.x, c.y) == (148, 148))
         .expect("the rock's cell published");
     assert_eq!(rock.class, CellClass::Obstacle.code());
     assert_eq!(rock.observed_by, 1 << Robot::Rover.code());

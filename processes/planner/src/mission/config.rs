@@ -82,7 +82,7 @@ impl Default for NavigatorConfig {
             bump_ring_m: 0.75,
             max_safe_tilt_rad: 22f64.to_radians(),
             scout: ScoutConfig::default(),
-            footprint_check: false,
+            footprint_check: true,
             rover_body: hopnav_robot::RoverBody::default(),
         }
     }

@@ -8,12 +8,12 @@
 //!   the few lowest ground points and highest features): memory never grows with the mission.
 //! - [`ground`]: the local ground, a robust plane through the neighbourhood's lowest
 //!   observations, for features whose producer could not measure their height (NaN).
-//! - [`map`]: insertion, classification (obstacle = at least `min_obstacle_support` features
-//!   more than `traversable_height_m` above the local ground, at least
-//!   `obstacle_min_fraction` of a well-observed cell's features, and at least
-//!   `min_high_clouds` clouds finding it high; once the rover has put
-//!   `rover_overrules_jumper_after` features in a cell, its stereo alone decides),
-//!   inflation ([`inflation`]) and the diff of changed cells.
+//! - [`map`]: insertion, classification and the diff of changed cells. Under the default
+//!   `traversability` model: a per-cell belief ([`belief`], [`traversability`], cleared along
+//!   stereo rays by [`rays`]), rocks fitted as domes ([`dome`], [`dome_layer`]) and the
+//!   rover's footprint inflation ([`inflation`]). Under the first rule (`features`): obstacle
+//!   = at least `min_obstacle_support` features more than `traversable_height_m` above the
+//!   local ground, voted by the jumper's clouds, with a lethal ring.
 //! - [`oracle_prior`]: evaluation only, the clouds of a flawless scout (every true rock).
 //! - [`snapshot`]: save and restore the statistics; [`view`]: read-only access for plots.
 //!
@@ -29,6 +29,7 @@
 //! let rock = FeaturePoint {
 //!     position_m: [1.2, 1.2, 0.5],
 //!     height_above_ground_m: 0.5,
+//!     depth_sigma_m: 0.03,
 //!     ..FeaturePoint::default()
 //! };
 //! map.insert_cloud(Robot::Rover, &[rock; 3]);

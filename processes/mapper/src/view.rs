@@ -6,7 +6,7 @@
 //! let config = MapperConfig::default();
 //! let map = FeatureMap::new(&config, config.resolve_geometry((8.0, 8.0)).unwrap());
 //! let view = MapView::new(&map);
-//! assert_eq!((view.width_cells(), view.height_cells()), (16, 16));
+//! assert_eq!((view.width_cells(), view.height_cells()), (32, 32));
 //! assert!(view.cells().all(|cell| cell.class == CellClass::Unknown));
 //! ```
 

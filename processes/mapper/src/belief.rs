@@ -78,6 +78,10 @@ pub struct BeliefParams {
     /// are shared by all their points (the jumper's pose drift tilts or lifts a whole cloud),
     /// fusing many points shrinks the top's sigma below the truth.
     pub point_hit_sigmas: Option<f32>,
+    /// The points' heights are fused into the cell's top (off for such clouds too: their
+    /// shared errors would make a confident top of noise, and every cell they saw a
+    /// maybe-rock).
+    pub fuse_top: bool,
 }
 
 impl BeliefParams {
@@ -97,6 +101,7 @@ impl BeliefParams {
             lethal_enter: 1.5,
             lethal_exit: 0.5,
             point_hit_sigmas: None,
+            fuse_top: true,
         }
     }
 }
@@ -183,7 +188,9 @@ impl CellBelief {
         }
         let sigma_m = sigma_m.max(1e-3);
         self.observed = true;
-        self.fuse_top(params, height_m, sigma_m * sigma_m);
+        if params.fuse_top {
+            self.fuse_top(params, height_m, sigma_m * sigma_m);
+        }
         let margin_m = params.confidence_sigmas * sigma_m;
         let hit_above_m = params.climb_limit_m - params.hit_margin_m;
         let top_confident = match params.point_hit_sigmas {

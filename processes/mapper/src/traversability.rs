@@ -32,7 +32,7 @@ pub struct PointSource {
 #[derive(Debug)]
 pub struct BeliefLayer {
     params: BeliefParams,
-    /// The same with the jumper's points judged one by one (see
+    /// The same with the jumper's points judged one by one, never fused into a top (see
     /// [`BeliefParams::point_hit_sigmas`]).
     jumper_params: BeliefParams,
     sigma_floor_m: f32,
@@ -52,6 +52,7 @@ impl BeliefLayer {
             params,
             jumper_params: BeliefParams {
                 point_hit_sigmas: Some(config.jumper_height_sigma_factor as f32),
+                fuse_top: false,
                 ..params
             },
             sigma_floor_m: config.height_sigma_floor_m as f32,

@@ -174,10 +174,16 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
 #[test]
 fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
     let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
+    // Kills are the faults here: a loaded machine that delays a frame must not add a hang.
+    let patient = format!(
+        "{}/tests/fixtures/config/valid/patient_watchdog.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let output = launch(
         &out,
         &run,
         &[
+            &patient,
             "--lockstep",
             "--fault",
             "kill:jumper_vo@f25",

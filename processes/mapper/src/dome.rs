@@ -14,8 +14,8 @@
 
 use nalgebra::{Matrix4, Vector4};
 
-/// One point on a rock, world metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One point on a rock, world metres (as the map keeps it, too).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RockPoint {
     /// Horizontal position.
     pub xy_m: [f32; 2],

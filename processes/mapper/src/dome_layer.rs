@@ -41,33 +41,22 @@ pub trait RockEvidence {
     fn judge(&self, height_m: f32, sigma_m: f32) -> BeliefClass;
 }
 
-/// One stored point.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct StoredPoint {
-    /// Horizontal position, world metres.
-    pub xy_m: [f32; 2],
-    /// Height above the local ground, metres.
-    pub height_m: f32,
-    /// One-sigma height uncertainty, metres.
-    pub sigma_m: f32,
-}
-
 /// A cell's newest tall points.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct CellPoints {
-    points: [StoredPoint; POINTS_PER_CELL],
+    points: [RockPoint; POINTS_PER_CELL],
     len: u8,
     next: u8,
 }
 
 impl CellPoints {
-    fn push(&mut self, point: StoredPoint) {
+    fn push(&mut self, point: RockPoint) {
         self.points[usize::from(self.next)] = point;
         self.next = ((usize::from(self.next) + 1) % POINTS_PER_CELL) as u8;
         self.len = (usize::from(self.len) + 1).min(POINTS_PER_CELL) as u8;
     }
 
-    fn as_slice(&self) -> &[StoredPoint] {
+    fn as_slice(&self) -> &[RockPoint] {
         &self.points[..usize::from(self.len).min(POINTS_PER_CELL)]
     }
 }
@@ -156,7 +145,7 @@ impl DomeLayer {
     /// A point of the rover's stereo in cell `index`; kept when it stands at least the minimum
     /// height tall. (The jumper's points carry metres of pose drift: a dome fitted to them
     /// lands beside the rock. They count in the cells' own beliefs.)
-    pub fn add_point(&mut self, index: usize, point: StoredPoint) {
+    pub fn add_point(&mut self, index: usize, point: RockPoint) {
         if !(point.height_m >= self.min_height_m && point.sigma_m > 0.0)
             || index >= self.rock_of_cell.len()
         {
@@ -284,11 +273,7 @@ impl DomeLayer {
             .iter()
             .filter_map(|cell| self.points.get(cell))
             .flat_map(CellPoints::as_slice)
-            .map(|p| RockPoint {
-                xy_m: p.xy_m,
-                height_m: p.height_m,
-                sigma_m: p.sigma_m,
-            })
+            .copied()
             .collect();
         let mut sum = [0.0f64; 2];
         for direction in rock
@@ -523,7 +508,7 @@ mod tests {
             let height_m = (0.09f32 - dx * dx - dy * dy).sqrt() + offset_m;
             layer.add_point(
                 geometry.index(cx, cy),
-                StoredPoint {
+                RockPoint {
                     xy_m: [x, y],
                     height_m,
                     sigma_m: 0.02,
@@ -558,7 +543,7 @@ mod tests {
         assert_eq!(rocks.len(), 1);
         // One more point on the same face: the rock stays, nothing is restated.
         let (cx, cy) = geometry.cell_of(4.85, 5.0).expect("inside");
-        let point = StoredPoint {
+        let point = RockPoint {
             xy_m: [4.85, 5.0],
             height_m: (0.09f32 - 0.15 * 0.15).sqrt(),
             sigma_m: 0.02,
@@ -580,7 +565,7 @@ mod tests {
         for (height_m, sigma_m) in [(0.05, 0.02), (f32::NAN, 0.02), (0.3, 0.0), (0.3, f32::NAN)] {
             layer.add_point(
                 3,
-                StoredPoint {
+                RockPoint {
                     xy_m: [0.8, 0.1],
                     height_m,
                     sigma_m,
@@ -589,7 +574,7 @@ mod tests {
         }
         layer.add_point(
             usize::MAX,
-            StoredPoint {
+            RockPoint {
                 xy_m: [0.0, 0.0],
                 height_m: 0.3,
                 sigma_m: 0.02,

@@ -14,7 +14,8 @@ use crate::belief::BeliefClass;
 use crate::cell::{CellStats, LOW_POINTS};
 use crate::config::{MapperConfig, ObstacleModel};
 use crate::dirty::DirtySet;
-use crate::dome_layer::{Changed, DomeLayer, StoredPoint};
+use crate::dome::RockPoint;
+use crate::dome_layer::{Changed, DomeLayer};
 use crate::geometry::GridGeometry;
 use crate::ground::{GroundPlane, GroundScratch, fit_ground};
 use crate::inflation::{FootprintCosts, KernelEntry, footprint_costs, kernel_for, kernel_reach};
@@ -312,7 +313,7 @@ impl FeatureMap {
             if let Some(domes) = self.domes.as_mut().filter(|_| robot == Robot::Rover) {
                 domes.add_point(
                     index,
-                    StoredPoint {
+                    RockPoint {
                         xy_m: [x, y],
                         height_m,
                         sigma_m: layer.floored_sigma_m(vertical_sigma_m),
@@ -565,7 +566,12 @@ impl FeatureMap {
     /// whether the cell was observed at all.
     fn classify_by_belief(&self, index: usize, belief: BeliefClass) -> Base {
         let stats = &self.stats[index];
-        let rock = self.fitted_rock_class(index);
+        // A cell its own belief makes lethal needs no look at the fitted rocks around it.
+        let rock = if belief == BeliefClass::Lethal {
+            BeliefClass::Unknown
+        } else {
+            self.fitted_rock_class(index)
+        };
         let class = match belief {
             BeliefClass::Lethal => BaseClass::Obstacle,
             _ if rock == BeliefClass::Lethal => BaseClass::Obstacle,

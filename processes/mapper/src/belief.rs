@@ -82,6 +82,9 @@ pub struct BeliefParams {
     /// shared errors would make a confident top of noise, and every cell they saw a
     /// maybe-rock).
     pub fuse_top: bool,
+    /// A fitted rock is lethal when its height plus this many of its sigmas stands above the
+    /// climb limit (see [`crate::traversability::BeliefLayer::judge_rock`]).
+    pub rock_lethal_sigmas: f32,
 }
 
 impl BeliefParams {
@@ -102,6 +105,7 @@ impl BeliefParams {
             lethal_exit: 0.5,
             point_hit_sigmas: None,
             fuse_top: true,
+            rock_lethal_sigmas: -1.0,
         }
     }
 }

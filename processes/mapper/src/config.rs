@@ -121,6 +121,13 @@ pub struct MapperConfig {
     /// make it flatter or steeper, within ×0.5–×2), and the ground under its base, unseen
     /// back included, is the rock's. 0 = no fit: the cells' own beliefs only.
     pub dome_base_per_height: f64,
+    /// `traversability`: a fitted rock is lethal when its height plus this many of its
+    /// height sigmas stands above the climb limit, uncertain (a finite cost) when only its
+    /// height plus two sigmas does. −1 waits for an 84 % chance that it is too tall; a
+    /// cautious +1 (16 %) closed corridors and made the rover wind: over 20 seeds it reached
+    /// B 16 and 13 times (rover-only, cooperative) against 18 and 17, with more collisions in
+    /// cooperative missions (docs/experiments/2026-12-06-traversability-near-limit-rocks.md).
+    pub rock_lethal_sigmas: f64,
     /// `traversability`: beyond the rover's circumscribed radius the extra cost decays as
     /// `inflation_max_cost · exp(−k·(d − r_circumscribed))` (nav2's `cost_scaling_factor`),
     /// out to `inflation_radius_m`, 1/m.
@@ -180,6 +187,7 @@ impl Default for MapperConfig {
             hit_margin_m: 0.03,
             rock_width_prior: 0.0,
             dome_base_per_height: 1.0,
+            rock_lethal_sigmas: -1.0,
             cost_scaling_per_m: 3.0,
             uncertain_cost: 1500,
             rover_body: hopnav_robot::RoverBody::default(),
@@ -316,6 +324,7 @@ impl MapperConfig {
         check_f64("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
         check_f64("rock_width_prior", self.rock_width_prior, 0.0, 2.0)?;
         check_f64("dome_base_per_height", self.dome_base_per_height, 0.0, 5.0)?;
+        check_f64("rock_lethal_sigmas", self.rock_lethal_sigmas, -1.9, 1.9)?;
         check_f64("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
         check_u64(
             "uncertain_cost",

@@ -187,9 +187,9 @@ impl DomeLayer {
                     queue.extend(cells.into_iter().filter(|c| !done.contains(c)));
                 }
             }
-            let fit = self.fit(&rock, evidence).filter(|dome| {
-                !contradicted(geometry, dome, self.base_per_height, &self.points, evidence)
-            });
+            let fit = self
+                .fit(&rock, evidence)
+                .filter(|dome| !contradicted(geometry, dome, &self.points, evidence));
             // A new point moves a fitted rock by millimetres: the rock it was stays, and the
             // map and the planner are spared a restate of its whole inflation every frame.
             let fit = match (fit, released.as_slice()) {
@@ -373,12 +373,17 @@ impl DomeLayer {
 fn contradicted(
     geometry: &GridGeometry,
     dome: &Dome,
-    base_per_height: f64,
     points: &HashMap<u32, CellPoints>,
     evidence: &impl RockEvidence,
 ) -> bool {
     let centre = [f64::from(dome.centre_m[0]), f64::from(dome.centre_m[1])];
     let (height_m, base_m) = (f64::from(dome.height_m), f64::from(dome.base_radius_m));
+    // The fitted shape, not the prior's: a squat rock's surface falls off slower.
+    let base_per_height = if height_m > 0.0 {
+        base_m / height_m
+    } else {
+        return false;
+    };
     let mut refuted = false;
     for_cells_within(geometry, centre, base_m, |index| {
         let Some((top_m, sigma_m)) = evidence.seen_top(index) else {

@@ -46,6 +46,7 @@ impl BeliefLayer {
         let params = BeliefParams {
             hit_sigmas: config.hit_sigmas as f32,
             hit_margin_m: config.hit_margin_m as f32,
+            rock_lethal_sigmas: config.rock_lethal_sigmas as f32,
             ..BeliefParams::new(config.rover_body.max_climbable_height_m)
         };
         Self {
@@ -136,12 +137,13 @@ impl BeliefLayer {
     }
 
     /// What a fitted rock of `height_m` ± `sigma_m` makes of the ground under it: lethal when
-    /// it stands a sigma above the climb limit (no margin: the fit models the dome, so its
-    /// height does not read low as a cell's top does), uncertain when it may stand above it,
-    /// traversable otherwise.
+    /// its height plus `rock_lethal_sigmas` sigmas stands above the climb limit (−1 by
+    /// default: a sigma above it), uncertain when its height plus two sigmas does,
+    /// traversable otherwise. No margin for reading low: the fit models the dome, not its
+    /// flanks.
     pub fn judge_rock(&self, height_m: f32, sigma_m: f32) -> BeliefClass {
         let p = &self.params;
-        if height_m - sigma_m > p.climb_limit_m {
+        if height_m + p.rock_lethal_sigmas * sigma_m > p.climb_limit_m {
             BeliefClass::Lethal
         } else if height_m + p.confidence_sigmas * sigma_m > p.climb_limit_m {
             BeliefClass::Uncertain

@@ -24,9 +24,11 @@ pub enum EvalCommand {
     /// height, how many rock points the mapper's rule calls high. Writes
     /// eval_jumper_clouds.json.
     JumperClouds(crate::jumper_clouds_cmd::JumperCloudsArgs),
-    /// Rover-only missions at k = 0.07, 0.10, 0.13, 0.16: the final map's ground lethal for
-    /// the rover's centre near its track against the rocks' (blocked-area ratio), truly lethal
-    /// cells left traversable and false lethal cells, median and worst per k; a map PNG per k.
+    /// Rover-only missions at k = 0.07, 0.10, 0.13, 0.16: over the ground the rover's camera
+    /// looked at from within 5 m, the final map's ground lethal for the rover's centre against
+    /// the rocks' (blocked-area ratio), truly lethal cells left traversable (also over every
+    /// mapped cell within 5 m of the track) and false lethal cells, median and worst per k; a
+    /// map PNG per k.
     Traversability(crate::eval_traversability_cmd::TraversabilityArgs),
 }
 

@@ -1,7 +1,8 @@
 //! `hopnav eval traversability`: rover-only missions at k = 0.07, 0.10, 0.13 and 0.16, and
-//! how much ground each final map shuts the rover's centre out of near its track against
-//! what the rocks really block (blocked-area ratio), how many truly lethal cells it left
-//! traversable, and how many it called lethal wrongly; a map figure per k.
+//! how much ground each final map shuts the rover's centre out of where its camera looked
+//! within 5 m against what the rocks really block (blocked-area ratio), how many truly lethal
+//! cells it left traversable, and how many it called lethal wrongly; the missed share is also
+//! given over every mapped cell within 5 m of the track; a map figure per k.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -48,6 +49,8 @@ struct MissionRow {
     collisions: u32,
     blocked_area_ratio: Option<f64>,
     missed_lethal_percent: Option<f64>,
+    /// Over every mapped cell within 5 m of the track, whichever way the camera looked.
+    missed_lethal_percent_near_track: Option<f64>,
     false_lethal_cells: Option<usize>,
     judged_cells: Option<usize>,
 }
@@ -129,7 +132,11 @@ pub fn run(args: TraversabilityArgs) -> ExitCode {
 
 fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) -> MissionRow {
     let mission = outcome.report.mission.as_ref();
-    let blocked = mission.and_then(|mission| MissionEvaluation::of(mission).blocked_area);
+    let evaluation = mission.map(MissionEvaluation::of);
+    let blocked = evaluation
+        .as_ref()
+        .and_then(|evaluation| evaluation.blocked_area);
+    let near_track = evaluation.and_then(|evaluation| evaluation.blocked_area_near_track);
     MissionRow {
         golombek_k: k,
         seed,
@@ -138,6 +145,7 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
         collisions: mission.map_or(0, |mission| mission.collisions),
         blocked_area_ratio: blocked.and_then(|b| b.blocked_area_ratio),
         missed_lethal_percent: blocked.and_then(|b| b.missed_lethal_percent()),
+        missed_lethal_percent_near_track: near_track.and_then(|b| b.missed_lethal_percent()),
         false_lethal_cells: blocked.map(|b| b.false_lethal_cells),
         judged_cells: blocked.map(|b| b.judged_cells),
     }
@@ -159,14 +167,15 @@ fn fmt(value: Option<f64>, unit: &str) -> String {
 /// Prints the table per k and writes eval_traversability.json.
 fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> ExitCode {
     println!(
-        "\n{:>5} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12}",
+        "\n{:>5} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12} {:>22}",
         "k",
         "missions",
         "reached",
         "collisions",
         "blocked ratio med/worst",
         "missed % med/worst",
-        "false cells"
+        "false cells",
+        "near track: missed %"
     );
     for k in ABUNDANCES {
         let of_k: Vec<&MissionRow> = rows.iter().filter(|row| row.golombek_k == k).collect();
@@ -179,7 +188,7 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
             })
         };
         println!(
-            "{:>5.2} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12}",
+            "{:>5.2} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12} {:>22}",
             k,
             of_k.len(),
             of_k.iter().filter(|row| row.goal_reached).count(),
@@ -197,6 +206,11 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
             of_k.iter()
                 .filter_map(|row| row.false_lethal_cells)
                 .sum::<usize>(),
+            spread(
+                of_k.iter()
+                    .filter_map(|row| row.missed_lethal_percent_near_track)
+                    .collect()
+            ),
         );
     }
     let path = args.out.join("eval_traversability.json");

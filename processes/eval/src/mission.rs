@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
-use crate::traversability::{BlockedArea, MapCell, RockEllipse, blocked_area};
+use crate::traversability::{BlockedArea, CameraView, MapCell, Reach, RockEllipse, blocked_area};
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
@@ -49,9 +49,14 @@ pub struct MissionEvaluation {
     /// Each robot's VO against the truth of the same frames.
     #[serde(default)]
     pub vo: Vec<VoAccuracy>,
-    /// The ground the map shuts the rover's centre out of near its track, against the truth.
+    /// The ground the map shuts the rover's centre out of, against the truth, over the cells
+    /// the rover's camera looked at from within 5 m.
     #[serde(default)]
     pub blocked_area: Option<BlockedArea>,
+    /// The same over every mapped cell within 5 m of the rover's track, whichever way its
+    /// camera looked (rocks to the side seen only from afar count too).
+    #[serde(default)]
+    pub blocked_area_near_track: Option<BlockedArea>,
 }
 
 impl MissionEvaluation {
@@ -118,7 +123,7 @@ impl MissionEvaluation {
         if let Some(blocked) = &self.blocked_area {
             writeln!(
                 out,
-                "ground lethal for the rover's centre near its track: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}; unclimbable rocks near the track: {} lethal, {} only costly, {} seen but free, {} not seen",
+                "ground lethal for the rover's centre where its camera looked within 5 m: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}; unclimbable rocks there: {} lethal, {} only costly, {} seen but free, {} not seen",
                 blocked.mapped_lethal_m2,
                 blocked.true_lethal_m2,
                 blocked
@@ -169,6 +174,19 @@ pub struct MissionTruth {
     pub inscribed_m: f64,
     /// The mapper's grid and inflation (`None` when its config is invalid).
     pub mapper: Option<MapperConfig>,
+    /// The rover's camera (`None` when the camera config is invalid).
+    pub rover_camera: Option<RoverCamera>,
+}
+
+/// Where the rover's camera sits and how wide it sees, for the cells it observed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoverCamera {
+    /// Its position in the body frame (x forward, y left), metres.
+    pub body_xy_m: [f64; 2],
+    /// Its viewing direction about body z, radians.
+    pub yaw_rad: f64,
+    /// Half its horizontal field of view, radians.
+    pub half_fov_rad: f64,
 }
 
 impl MissionTruth {
@@ -215,6 +233,16 @@ impl MissionTruth {
             climbable_height_m: body.max_climbable_height_m,
             inscribed_m: body.inscribed_radius_m(),
             mapper,
+            rover_camera: hopnav_camera::CameraSection::from_config(config)
+                .ok()
+                .map(|camera| RoverCamera {
+                    body_xy_m: [
+                        camera.rover_mount.position_m[0],
+                        camera.rover_mount.position_m[1],
+                    ],
+                    yaw_rad: camera.rover_mount.yaw_rad,
+                    half_fov_rad: 0.5 * camera.rover.hfov_rad,
+                }),
         })
     }
 
@@ -257,7 +285,24 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .collect(),
         blocked_area: truth.rock_ellipses.as_deref().and_then(|rocks| {
             let map = record.map.as_ref()?;
-            Some(judge_blocked_area(truth, map, &record.rover_track_m, rocks))
+            let camera = truth.rover_camera?;
+            let views = rover_camera_views(record, &camera);
+            let reach = Reach::InView {
+                views: &views,
+                half_fov_rad: camera.half_fov_rad,
+            };
+            Some(judge_blocked_area(truth, map, &reach, rocks))
+        }),
+        blocked_area_near_track: truth.rock_ellipses.as_deref().and_then(|rocks| {
+            let map = record.map.as_ref()?;
+            let track_m: Vec<[f64; 2]> =
+                record.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
+            Some(judge_blocked_area(
+                truth,
+                map,
+                &Reach::NearTrack(&track_m),
+                rocks,
+            ))
         }),
     }
 }
@@ -266,7 +311,7 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
 fn judge_blocked_area(
     truth: &MissionTruth,
     map: &RecordedMap,
-    rover_track_m: &[(f64, f64)],
+    reach: &Reach<'_>,
     rocks: &[RockEllipse],
 ) -> BlockedArea {
     let size_m = map.cell_size_m;
@@ -283,15 +328,46 @@ fn judge_blocked_area(
             costly: cell.extra_cost > 0,
         })
         .collect();
-    let track_m: Vec<[f64; 2]> = rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
     blocked_area(
         &cells,
         rocks,
-        &track_m,
+        reach,
         size_m,
         truth.climbable_height_m,
         truth.inscribed_m,
     )
+}
+
+/// The rover's camera at each of its true poses the VO was paired with (one a frame while
+/// the VO ran), thinned to one per 5 cm or 2° of change.
+fn rover_camera_views(record: &MissionRecord, camera: &RoverCamera) -> Vec<CameraView> {
+    let mut views: Vec<CameraView> = Vec::new();
+    let poses = record
+        .vo
+        .iter()
+        .filter(|vo| vo.robot == "rover")
+        .flat_map(|vo| vo.track.pairs().iter().map(|(_, _, truth)| truth));
+    for world_from_body in poses {
+        let (_, _, yaw_rad) = world_from_body.rotation.euler_angles();
+        let mount = world_from_body.transform_point(&nalgebra::Point3::new(
+            camera.body_xy_m[0],
+            camera.body_xy_m[1],
+            0.0,
+        ));
+        let view = CameraView {
+            position_m: [mount.x, mount.y],
+            yaw_rad: yaw_rad + camera.yaw_rad,
+        };
+        let same = views.last().is_some_and(|last| {
+            (last.position_m[0] - view.position_m[0]).hypot(last.position_m[1] - view.position_m[1])
+                < 0.05
+                && (last.yaw_rad - view.yaw_rad).sin().abs() < 2_f64.to_radians()
+        });
+        if !same {
+            views.push(view);
+        }
+    }
+    views
 }
 
 /// The planner's path from A to B had it known from the start every rock the rover cannot

@@ -1,8 +1,10 @@
 //! How much ground the final map shuts the rover's centre out of, against how much the rocks
 //! really do (evaluation only).
 //!
-//! Over the cells the rover saw (mapped, not unknown) within [`NEAR_TRACK_M`] of its true
-//! track: a cell is **truly lethal** when its centre lies within the rover's inscribed radius
+//! Over the cells the rover observed within [`NEAR_TRACK_M`] (mapped, not unknown, and in
+//! its camera's horizontal field of view within that range of the camera at some true pose:
+//! [`Reach::InView`]; [`Reach::NearTrack`] judges every mapped cell that near the track,
+//! whichever way the camera looked): a cell is **truly lethal** when its centre lies within the rover's inscribed radius
 //! of the footprint of a rock taller than the climb limit (the body would touch the rock
 //! whatever its heading); it is **mapped lethal** when the map makes it an obstacle or a
 //! lethal margin. The blocked-area ratio is mapped over truly lethal area (1 is perfect,
@@ -10,7 +12,7 @@
 //! traversable, **false** ones mapped lethal and truly not.
 //!
 //! ```
-//! use hopnav_eval::traversability::{MapCell, RockEllipse, blocked_area};
+//! use hopnav_eval::traversability::{MapCell, Reach, RockEllipse, blocked_area};
 //! let rock = RockEllipse::round([0.0, 0.0], 0.3, 0.4);
 //! // A 0.25 m grid around the rock, every cell mapped as the truth has it.
 //! let cells: Vec<MapCell> = (-8..8)
@@ -20,7 +22,8 @@
 //!         MapCell { centre_m, lethal: centre_m[0].hypot(centre_m[1]) < 0.7, costly: false }
 //!     })
 //!     .collect();
-//! let result = blocked_area(&cells, &[rock], &[[0.0, -1.5], [0.0, 1.5]], 0.25, 0.2, 0.4);
+//! let track = Reach::NearTrack(&[[0.0, -1.5], [0.0, 1.5]]);
+//! let result = blocked_area(&cells, &[rock], &track, 0.25, 0.2, 0.4);
 //! assert_eq!(result.blocked_area_ratio, Some(1.0));
 //! assert_eq!((result.missed_lethal_cells, result.false_lethal_cells), (0, 0));
 //! ```
@@ -72,6 +75,58 @@ impl RockEllipse {
 /// Cells farther than this from the rover's true track are not judged, metres.
 pub const NEAR_TRACK_M: f64 = 5.0;
 
+/// Where the rover's camera was and which way it looked, at one true pose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraView {
+    /// The camera's position (x, y), world metres.
+    pub position_m: [f64; 2],
+    /// Its viewing direction about world z, radians.
+    pub yaw_rad: f64,
+}
+
+/// Which cells the judge looks at.
+#[derive(Debug, Clone, Copy)]
+pub enum Reach<'a> {
+    /// Cells within [`NEAR_TRACK_M`] of any of these points (the true track), world metres.
+    NearTrack(&'a [[f64; 2]]),
+    /// Cells within [`NEAR_TRACK_M`] of one of these camera views and inside its horizontal
+    /// field of view (occlusion aside): the cells the rover observed within that range.
+    InView {
+        /// The camera at each true pose.
+        views: &'a [CameraView],
+        /// Half the camera's horizontal field of view, radians.
+        half_fov_rad: f64,
+    },
+}
+
+impl Reach<'_> {
+    /// The judge looks at the ground at `point_m`.
+    pub fn covers(&self, point_m: [f64; 2]) -> bool {
+        let reach_m2 = NEAR_TRACK_M * NEAR_TRACK_M;
+        match *self {
+            Reach::NearTrack(track_m) => track_m.iter().any(|p| {
+                let (dx, dy) = (p[0] - point_m[0], p[1] - point_m[1]);
+                dx * dx + dy * dy <= reach_m2
+            }),
+            Reach::InView {
+                views,
+                half_fov_rad,
+            } => {
+                let cos_half = half_fov_rad.cos();
+                views.iter().any(|view| {
+                    let (dx, dy) = (
+                        point_m[0] - view.position_m[0],
+                        point_m[1] - view.position_m[1],
+                    );
+                    let distance_m2 = dx * dx + dy * dy;
+                    let (sin, cos) = view.yaw_rad.sin_cos();
+                    distance_m2 <= reach_m2 && dx * cos + dy * sin >= distance_m2.sqrt() * cos_half
+                })
+            }
+        }
+    }
+}
+
 /// One mapped cell as the judge needs it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MapCell {
@@ -114,12 +169,12 @@ impl BlockedArea {
     }
 }
 
-/// Judges `cells` (a grid of `cell_size_m`) within [`NEAR_TRACK_M`] of `track_m` against
-/// the `rocks` taller than `climb_limit_m`, for a rover of `inscribed_m`.
+/// Judges the `cells` (a grid of `cell_size_m`) that `reach` covers against the `rocks`
+/// taller than `climb_limit_m`, for a rover of `inscribed_m`.
 pub fn blocked_area(
     cells: &[MapCell],
     rocks: &[RockEllipse],
-    track_m: &[[f64; 2]],
+    reach: &Reach<'_>,
     cell_size_m: f64,
     climb_limit_m: f64,
     inscribed_m: f64,
@@ -131,7 +186,7 @@ pub fn blocked_area(
     let cell_m2 = cell_size_m * cell_size_m;
     let mut result = BlockedArea::default();
     for cell in cells {
-        if !near_track(cell.centre_m, track_m) {
+        if !reach.covers(cell.centre_m) {
             continue;
         }
         result.judged_cells += 1;
@@ -153,10 +208,7 @@ pub fn blocked_area(
     }
     result.blocked_area_ratio =
         (result.true_lethal_m2 > 0.0).then(|| result.mapped_lethal_m2 / result.true_lethal_m2);
-    for rock in blocking
-        .iter()
-        .filter(|rock| near_track(rock.center_m, track_m))
-    {
+    for rock in blocking.iter().filter(|rock| reach.covers(rock.center_m)) {
         // The cells over the rock (a cell counts when its centre is within half a cell of it).
         let over: Vec<&MapCell> = cells
             .iter()
@@ -174,14 +226,6 @@ pub fn blocked_area(
         result.rocks_by_outcome[outcome] += 1;
     }
     result
-}
-
-fn near_track(point_m: [f64; 2], track_m: &[[f64; 2]]) -> bool {
-    let reach_m2 = NEAR_TRACK_M * NEAR_TRACK_M;
-    track_m.iter().any(|p| {
-        let (dx, dy) = (p[0] - point_m[0], p[1] - point_m[1]);
-        dx * dx + dy * dy <= reach_m2
-    })
 }
 
 #[cfg(test)]
@@ -224,7 +268,14 @@ mod tests {
     fn a_map_that_blocks_twice_the_ground_has_a_ratio_near_two_and_no_misses() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
         let cells = grid(|c| c[0].hypot(c[1]) < 0.7 * std::f64::consts::SQRT_2);
-        let result = blocked_area(&cells, &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        let result = blocked_area(
+            &cells,
+            &rocks,
+            &Reach::NearTrack(&[[0.0, 0.0]]),
+            0.25,
+            0.2,
+            0.4,
+        );
         let ratio = result.blocked_area_ratio.unwrap();
         assert!((1.7..2.3).contains(&ratio), "{ratio}");
         assert_eq!(result.missed_lethal_cells, 0);
@@ -234,7 +285,14 @@ mod tests {
     #[test]
     fn a_climbable_rock_is_not_lethal_and_a_missed_rock_is_counted() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.15), rock(2.0, 0.0, 0.3, 0.5)];
-        let result = blocked_area(&grid(|_| false), &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        let result = blocked_area(
+            &grid(|_| false),
+            &rocks,
+            &Reach::NearTrack(&[[0.0, 0.0]]),
+            0.25,
+            0.2,
+            0.4,
+        );
         assert!(result.true_lethal_cells > 0, "the tall rock only");
         assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
         assert_eq!(result.missed_lethal_percent(), Some(100.0));
@@ -244,7 +302,14 @@ mod tests {
     #[test]
     fn cells_far_from_the_track_are_not_judged() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
-        let result = blocked_area(&grid(|_| true), &rocks, &[[100.0, 100.0]], 0.25, 0.2, 0.4);
+        let result = blocked_area(
+            &grid(|_| true),
+            &rocks,
+            &Reach::NearTrack(&[[100.0, 100.0]]),
+            0.25,
+            0.2,
+            0.4,
+        );
         assert_eq!(result.judged_cells, 0);
         assert_eq!(result.blocked_area_ratio, None);
     }
@@ -263,8 +328,38 @@ mod tests {
         }
         cells.retain(|cell| cell.centre_m[0] < 3.0 || cell.centre_m[1].abs() > 1.0);
         cells.retain(|cell| (cell.centre_m[0] + 2.0).hypot(cell.centre_m[1]) > 0.6);
-        let result = blocked_area(&cells, &rocks, &[[0.0, 0.0]], 0.25, 0.2, 0.4);
+        let result = blocked_area(
+            &cells,
+            &rocks,
+            &Reach::NearTrack(&[[0.0, 0.0]]),
+            0.25,
+            0.2,
+            0.4,
+        );
         // Lethal, only costly, not seen; the fourth is beyond 5 m of the track.
         assert_eq!(result.rocks_by_outcome, [1, 1, 0, 1]);
+    }
+
+    #[test]
+    fn only_cells_the_camera_looked_at_within_reach_are_judged() {
+        // The camera at the origin looks along +x with a 60° field of view.
+        let views = [CameraView {
+            position_m: [0.0, 0.0],
+            yaw_rad: 0.0,
+        }];
+        let reach = Reach::InView {
+            views: &views,
+            half_fov_rad: 30_f64.to_radians(),
+        };
+        assert!(reach.covers([3.0, 1.0]));
+        assert!(!reach.covers([3.0, 2.5]), "outside the field of view");
+        assert!(!reach.covers([-3.0, 0.0]), "behind the camera");
+        assert!(!reach.covers([5.5, 0.0]), "beyond reach");
+        let rocks = [rock(3.0, 0.0, 0.3, 0.5), rock(-3.0, 0.0, 0.3, 0.5)];
+        let result = blocked_area(&grid(|_| false), &rocks, &reach, 0.25, 0.2, 0.4);
+        // Only the rock ahead counts, missed.
+        assert_eq!(result.rocks_by_outcome, [0, 0, 1, 0]);
+        assert!(result.true_lethal_cells > 0);
+        assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
     }
 }

@@ -229,6 +229,49 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
     assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }
 
+/// The default mission in lockstep with rover_vo killed while the rover drives: the restarted
+/// VO anchors on the stereo pair of the last pose its predecessor published (from the camera
+/// topic's history) and measures the motion since then, so its position error does not jump
+/// at the restart (losing one frame's motion would add about the rover's 0.04 m per frame).
+#[test]
+fn a_restarted_rover_vo_measures_the_motion_it_did_not_see() {
+    const KILL_FRAME: u64 = 150;
+    let (out, run) = (out_dir("rover-vo-kill"), run_id("rover-vo-kill"));
+    let kill = format!("kill:rover_vo@f{KILL_FRAME}");
+    let output = launch(
+        &out,
+        &run,
+        &["--lockstep", "--frames", "170", "--fault", &kill],
+    );
+    let report = report(&out, &run);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{report:#}\n{stderr}");
+    assert_eq!(process(&report, "rover_vo")["restarts"], 1, "{stderr}");
+    assert!(stderr.contains("rover_vo: resumed on frame"), "{stderr}");
+    assert!(!stderr.contains("rover_vo: restarted without"), "{stderr}");
+    let run_dir = out.join(&run);
+    let truth = tum_positions(&run_dir.join("vo_rover_truth.tum"));
+    let estimate = tum_positions(&run_dir.join("vo_rover_estimate.tum"));
+    let error_at = |t_s: f64| {
+        let (_, e) = estimate
+            .iter()
+            .find(|(t, _)| (t - t_s).abs() < 0.01)
+            .unwrap_or_else(|| panic!("no estimate at {t_s} s"));
+        let (_, g) = truth
+            .iter()
+            .find(|(t, _)| (t - t_s).abs() < 0.01)
+            .unwrap_or_else(|| panic!("no truth at {t_s} s"));
+        (e[0] - g[0]).hypot(e[1] - g[1])
+    };
+    let before_m = error_at((KILL_FRAME - 5) as f64 * 0.1);
+    let after_m = error_at((KILL_FRAME + 10) as f64 * 0.1);
+    assert!(
+        (after_m - before_m).abs() < 0.02,
+        "error {before_m:.3} m before the restart, {after_m:.3} m after"
+    );
+    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+}
+
 /// The default mission in lockstep with physics killed during the jumper's first hop: the
 /// restarted physics continues the simulation from the last state it published (relayed by
 /// the supervisor) instead of starting over at t = 0, so after 120 frames the simulation is at

@@ -91,21 +91,6 @@ fn the_rover_only_baseline_keeps_the_jumper_on_the_ground() {
     );
 }
 
-/// `(t, [x, y, z])` of each pose in a TUM trajectory file.
-fn tum_positions(path: &std::path::Path) -> Vec<(f64, [f64; 3])> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    text.lines()
-        .filter(|line| !line.starts_with('#'))
-        .map(|line| {
-            let v: Vec<f64> = line
-                .split_whitespace()
-                .map(|x| x.parse().unwrap())
-                .collect();
-            (v[0], [v[1], v[2], v[3]])
-        })
-        .collect()
-}
-
 /// The jumper VO's position error at the first pose of every hop launched from rest (the
 /// hops after the first), in launch order.
 fn jumper_error_after_each_launch_m(run_dir: &std::path::Path) -> Vec<f64> {

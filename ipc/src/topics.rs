@@ -69,8 +69,9 @@ pub const ALTIMETER: TopicSpec = TopicSpec::fixed("hopnav/physics/altimeter", 1,
 pub const IMU: TopicSpec = TopicSpec::fixed("hopnav/physics/imu", 1, 8);
 /// camera: the jumper's rear-facing mono image.
 pub const JUMPER_IMAGE: TopicSpec = TopicSpec::fixed("hopnav/camera/jumper", 1, 2);
-/// camera: the rover's stereo pair.
-pub const ROVER_STEREO: TopicSpec = TopicSpec::fixed("hopnav/camera/rover_stereo", 1, 2);
+/// camera: the rover's stereo pair. History 4: a restarted rover_vo finds the pair its last
+/// published pose was measured on, and measures the motion from there.
+pub const ROVER_STEREO: TopicSpec = TopicSpec::fixed("hopnav/camera/rover_stereo", 4, 4);
 /// jumper_vo: estimated jumper pose, every frame.
 pub const JUMPER_POSE: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/pose", 1, 8);
 /// rover_vo: estimated rover pose, every frame.

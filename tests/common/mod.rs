@@ -198,3 +198,18 @@ pub fn wait_with_limit(child: &mut Child, limit: Duration) -> Option<std::proces
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+/// `(t, [x, y, z])` of each pose in a TUM trajectory file.
+pub fn tum_positions(path: &std::path::Path) -> Vec<(f64, [f64; 3])> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines()
+        .filter(|line| !line.starts_with('#'))
+        .map(|line| {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            (v[0], [v[1], v[2], v[3]])
+        })
+        .collect()
+}

@@ -19,7 +19,7 @@ use hopnav_ipc::messages::{
 };
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
-use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber};
+use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber, ValidSlice};
 use hopnav_vision::image::ImageView;
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 
@@ -109,6 +109,10 @@ pub struct RoverVoProcess {
     resume: Option<Subscriber<PoseEstimate>>,
     /// The pose to continue from, until the pipeline exists.
     resume_pose: Option<Isometry3<f64>>,
+    /// The frame that pose was measured on: the restarted pipeline anchors on that frame's
+    /// images (from the stereo topic's history) before it tracks the newest, so the motion
+    /// between the last published pose and the first new one is measured, not lost.
+    resume_frame_index: Option<u64>,
 }
 
 /// The stereo rig a header describes, or `None` if the header is unusable.
@@ -157,54 +161,44 @@ fn imu_attitude(sample: &ImuSample) -> Option<UnitQuaternion<f64>> {
         .then(|| UnitQuaternion::from_quaternion(q))
 }
 
-impl Process for RoverVoProcess {
-    type Error = RoverVoProcessError;
-
-    fn new(context: &ProcessContext) -> Result<Self, RoverVoProcessError> {
-        let config = hopnav_config::load_file(&context.identity.config_path)?;
-        let section = rover_vo_section(&config)?;
-        let node = &context.node;
-        Ok(Self {
-            clouds: SlicePublisher::open(node, &topics::ROVER_CLOUD, section.max_features)?,
-            stereo: SliceSubscriber::open(node, &topics::ROVER_STEREO)?,
-            imu: Subscriber::open(node, &topics::IMU)?,
-            poses: Publisher::open(node, &topics::ROVER_POSE)?,
-            config: section,
-            vo: None,
-            started: false,
-            last_imu: None,
-            keyframes: 0,
-            bad_headers: 0,
-            resume: if context.identity.incarnation > 0 {
-                Some(Subscriber::open(node, &topics::RESUME_ROVER_POSE)?)
-            } else {
-                None
-            },
-            resume_pose: None,
-        })
+impl RoverVoProcess {
+    /// A restart's first images: feeds the frame of the last published pose to a pipeline
+    /// placed at that pose (nothing published: that pose is out already), then returns the
+    /// newest frame to track from it. Without the anchor frame in the history, the newest
+    /// frame starts the pipeline at the resumed pose and the motion in between is lost; with
+    /// no frame at all, it waits for the next step.
+    fn anchor_on_resumed_frame(
+        &mut self,
+        frame_index: u64,
+    ) -> Result<Option<ValidSlice<ImageHeader>>, RoverVoProcessError> {
+        while let Some(image) = self.stereo.receive()? {
+            let image_frame = image.header().stamp.frame_index;
+            if image_frame < frame_index {
+                continue;
+            }
+            if image_frame == frame_index {
+                self.process_image(image, false)?;
+                eprintln!("rover_vo: resumed on frame {frame_index}, the last pose published");
+                return Ok(self.stereo.receive_latest()?);
+            }
+            eprintln!(
+                "rover_vo: restarted without frame {frame_index} (history starts at \
+                 {image_frame}): the motion since the last published pose is lost"
+            );
+            return Ok(Some(self.stereo.receive_latest()?.unwrap_or(image)));
+        }
+        // Nothing yet: the camera delivers its history at its next send.
+        self.resume_frame_index = Some(frame_index);
+        Ok(None)
     }
 
-    fn step(
+    /// Runs the pipeline on one stereo pair; publishes its pose (and a cloud at keyframes)
+    /// only if `publish`.
+    fn process_image(
         &mut self,
-        _context: &ProcessContext,
-        _tick: &FrameTick,
+        image: ValidSlice<ImageHeader>,
+        publish: bool,
     ) -> Result<(), RoverVoProcessError> {
-        if let Some(resume) = self.resume.take()
-            && let Some(last) = resume.receive_latest()?
-        {
-            // Restarted: continue from the last pose published, not from the start point.
-            self.resume_pose = Some(last.world_from_body.to_isometry());
-        }
-        while let Some(sample) = self.imu.receive()? {
-            if let Some(q) = imu_attitude(&sample) {
-                self.last_imu = Some(q);
-            } else {
-                self.bad_headers += 1;
-            }
-        }
-        let Some(image) = self.stereo.receive_latest()? else {
-            return Ok(()); // camera skipped this frame; the next one bridges the gap
-        };
         let header = *image.header();
         let pixels = image.elements();
         let Some(rig) = rig_from_header(&header, pixels.len()) else {
@@ -267,6 +261,9 @@ impl Process for RoverVoProcess {
         }
         let output = vo.process_frame(&frame);
         drop(image);
+        if !publish {
+            return Ok(());
+        }
         let world_from_body = Pose3::from_isometry(&output.world_from_body);
         let stamp = header.stamp;
         self.poses.send_with(|pose| {
@@ -312,6 +309,64 @@ impl Process for RoverVoProcess {
             )?;
         }
         Ok(())
+    }
+}
+
+impl Process for RoverVoProcess {
+    type Error = RoverVoProcessError;
+
+    fn new(context: &ProcessContext) -> Result<Self, RoverVoProcessError> {
+        let config = hopnav_config::load_file(&context.identity.config_path)?;
+        let section = rover_vo_section(&config)?;
+        let node = &context.node;
+        Ok(Self {
+            clouds: SlicePublisher::open(node, &topics::ROVER_CLOUD, section.max_features)?,
+            stereo: SliceSubscriber::open(node, &topics::ROVER_STEREO)?,
+            imu: Subscriber::open(node, &topics::IMU)?,
+            poses: Publisher::open(node, &topics::ROVER_POSE)?,
+            config: section,
+            vo: None,
+            started: false,
+            last_imu: None,
+            keyframes: 0,
+            bad_headers: 0,
+            resume: if context.identity.incarnation > 0 {
+                Some(Subscriber::open(node, &topics::RESUME_ROVER_POSE)?)
+            } else {
+                None
+            },
+            resume_pose: None,
+            resume_frame_index: None,
+        })
+    }
+
+    fn step(
+        &mut self,
+        _context: &ProcessContext,
+        _tick: &FrameTick,
+    ) -> Result<(), RoverVoProcessError> {
+        if let Some(resume) = self.resume.take()
+            && let Some(last) = resume.receive_latest()?
+        {
+            // Restarted: continue from the last pose published, not from the start point.
+            self.resume_pose = Some(last.world_from_body.to_isometry());
+            self.resume_frame_index = Some(last.stamp.frame_index);
+        }
+        while let Some(sample) = self.imu.receive()? {
+            if let Some(q) = imu_attitude(&sample) {
+                self.last_imu = Some(q);
+            } else {
+                self.bad_headers += 1;
+            }
+        }
+        let image = match self.resume_frame_index.take() {
+            Some(frame_index) => self.anchor_on_resumed_frame(frame_index)?,
+            None => self.stereo.receive_latest()?,
+        };
+        let Some(image) = image else {
+            return Ok(()); // camera skipped this frame; the next one bridges the gap
+        };
+        self.process_image(image, true)
     }
 
     fn rejected_samples(&self) -> u64 {

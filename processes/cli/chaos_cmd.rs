@@ -2,16 +2,24 @@
 //! enabled processes and the chosen kinds; the table shows what was injected, detected and
 //! recovered, how long recovery took, the mission outcome, and hopnav's shared-memory and
 //! node files counted before and after.
+//!
+//! Before the faulted launches, the same launch runs once without faults: its mission (frames
+//! to B, executed path) is the reference each faulted mission is judged against
+//! ([`hopnav_eval::faulted_mission`]), and faults are drawn inside its frames, so they hit the
+//! traverse rather than the time after B. Every launch stops at B.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
+use hopnav_config::HopnavConfig;
+use hopnav_eval::faulted_mission::{FaultedMission, MissionOutcome, Verdict, judge};
 use hopnav_supervisor::fault_injector::FaultRecord;
-use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
+use hopnav_supervisor::{LaunchError, LaunchOptions, LaunchOutcome, launch};
 use serde::Serialize;
 
+use crate::compare_quality::median_and_worst;
 use crate::registry;
 
 #[derive(Debug, Args)]
@@ -36,7 +44,9 @@ pub struct ChaosArgs {
         value_delimiter = ','
     )]
     kinds: Vec<String>,
-    /// Frames per launch (lockstep).
+    /// Frames per launch at most (lockstep; a launch stops when the rover reaches B). Missions
+    /// are judged only if the unfaulted launch reaches B within this many frames (the default
+    /// terrain's mission takes about 1000).
     #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(20..=1_000_000))]
     frames: u64,
     /// Folder for the run folders and chaos.json.
@@ -49,6 +59,8 @@ struct ChaosRun {
     run: u64,
     outcome: String,
     mission: Option<String>,
+    /// The mission against the unfaulted launch's.
+    vs_unfaulted: Option<FaultedMission>,
     faults: Vec<FaultRecord>,
     hopnav_files_before: usize,
     hopnav_files_after: usize,
@@ -63,6 +75,7 @@ impl ChaosRun {
             run,
             outcome,
             mission: None,
+            vs_unfaulted: None,
             faults: Vec::new(),
             hopnav_files_before: before,
             hopnav_files_after: after,
@@ -176,16 +189,46 @@ pub fn run(args: ChaosArgs) -> ExitCode {
     };
     let frame_period_ms = (base.run.frame_period_s() * 1e3) as u64;
     let watchdog_ms = base.watchdog.heartbeat_timeout_frames as u64 * frame_period_ms;
-    let mut draw = Draw(args.seed);
-    let mut runs = Vec::new();
-    let mut interrupted = false;
-    for run in 0..args.runs {
+    let chaos_config = |faults_seed: u64| {
         let mut config = base.clone();
         config.run.lockstep = true;
         config.run.frames = args.frames;
         config.run.out_dir = args.out.display().to_string();
-        config.mission.stop_on_goal = false;
-        config.faults.seed = args.seed.wrapping_add(run);
+        config.mission.stop_on_goal = true;
+        config.faults.seed = faults_seed;
+        config
+    };
+    // A graph runs a mission when its planner runs (as the supervisor decides).
+    let runs_mission = base
+        .processes
+        .get("planner")
+        .is_some_and(|planner| planner.enabled);
+    let reference = if runs_mission {
+        eprintln!("[unfaulted] the same launch without faults, the missions' reference");
+        match launch_once(chaos_config(args.seed), &executable) {
+            Ok(outcome) if outcome.interrupted => {
+                eprintln!("interrupted: stopped during the unfaulted launch, before any run");
+                return ExitCode::from(crate::EXIT_INTERRUPTED);
+            }
+            Ok(outcome) => mission_outcome(&outcome, base.run.frame_period_s()),
+            Err(error) => {
+                eprintln!("error: the unfaulted launch failed: {error}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        None
+    };
+    print_reference(reference.as_ref(), args.frames);
+    // Faults fall inside the traverse (its first and last tenth spared, see `draw_fault`).
+    let fault_frames = reference
+        .filter(|mission| mission.goal_reached)
+        .map_or(args.frames, |mission| mission.frames.max(20));
+    let mut draw = Draw(args.seed);
+    let mut runs = Vec::new();
+    let mut interrupted = false;
+    for run in 0..args.runs {
+        let mut config = chaos_config(args.seed.wrapping_add(run));
         let mut faults = Vec::new();
         let mut attempts = 0;
         while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
@@ -194,7 +237,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
                 &mut draw,
                 &args.kinds,
                 &processes,
-                args.frames,
+                fault_frames,
                 frame_period_ms,
                 watchdog_ms,
             ) {
@@ -204,14 +247,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         config.faults.inject = faults.clone();
         eprintln!("[{}/{}] {}", run + 1, args.runs, faults.join(" "));
         let before = hopnav_ipc::namespace::hopnav_files().len();
-        let outcome = launch(LaunchOptions {
-            config,
-            executable: executable.clone(),
-            known_processes: registry::names(),
-            run_id: None,
-            show_status: false,
-            evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
-        });
+        let outcome = launch_once(config, &executable);
         let after = hopnav_ipc::namespace::hopnav_files().len();
         let record = match outcome {
             Err(LaunchError::Interrupted) => {
@@ -221,7 +257,11 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             Ok(outcome) => {
                 interrupted = outcome.interrupted;
                 let panics = count_panics(&outcome.report);
+                let vs_unfaulted = reference
+                    .zip(mission_outcome(&outcome, base.run.frame_period_s()))
+                    .map(|(reference, mission)| judge(&reference, mission, &outcome.report.faults));
                 ChaosRun {
+                    vs_unfaulted,
                     run,
                     outcome: outcome.report.outcome.clone(),
                     mission: outcome.report.mission.as_ref().map(|mission| {
@@ -255,6 +295,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         }
     }
     print_table(&runs, base.run.frame_period_s());
+    print_missions(&runs, reference.as_ref());
     let path = args.out.join("chaos.json");
     let json = serde_json::to_string_pretty(&runs).unwrap_or_default();
     if let Err(error) =
@@ -282,6 +323,101 @@ pub fn run(args: ChaosArgs) -> ExitCode {
     }
 }
 
+/// One lockstep launch with the truth evaluator (the mission's scores in its report).
+fn launch_once(
+    config: HopnavConfig,
+    executable: &std::path::Path,
+) -> Result<LaunchOutcome, LaunchError> {
+    launch(LaunchOptions {
+        config,
+        executable: executable.to_path_buf(),
+        known_processes: registry::names(),
+        run_id: None,
+        show_status: false,
+        evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
+    })
+}
+
+/// The launch's mission in frames and metres, if the graph ran one.
+fn mission_outcome(outcome: &LaunchOutcome, frame_period_s: f64) -> Option<MissionOutcome> {
+    let mission = outcome.report.mission.as_ref()?;
+    Some(MissionOutcome {
+        goal_reached: mission.goal_reached,
+        frames: (mission.mission_time_s / frame_period_s).round().max(0.0) as u64,
+        executed_path_m: mission.executed_path_m,
+    })
+}
+
+fn print_reference(reference: Option<&MissionOutcome>, frames: u64) {
+    match reference {
+        Some(mission) if mission.goal_reached => eprintln!(
+            "[unfaulted] B reached in {} frames, {:.1} m driven; faults are drawn inside those frames",
+            mission.frames, mission.executed_path_m
+        ),
+        Some(mission) => eprintln!(
+            "[unfaulted] B not reached in {frames} frames ({:.1} m driven): missions are not judged; give --frames enough for the mission",
+            mission.executed_path_m
+        ),
+        None => eprintln!("[unfaulted] this graph runs no mission: missions are not judged"),
+    }
+}
+
+/// The mission column of a run: the verdict against the unfaulted mission.
+fn mission_cell(run: &ChaosRun) -> String {
+    let Some(judged) = run.vs_unfaulted else {
+        return run.mission.clone().unwrap_or_else(|| "-".into());
+    };
+    let percent = |excess: Option<f64>| excess.map_or("?".into(), |e| format!("{:+.1} %", e * 1e2));
+    match judged.verdict {
+        Verdict::Reached => format!(
+            "B in {} f, path {}",
+            judged.outcome.frames,
+            percent(judged.path_excess)
+        ),
+        Verdict::ReachedLate => format!(
+            "B late: {} f > {} allowed, path {}",
+            judged.outcome.frames,
+            judged.allowed_frames.unwrap_or(0),
+            percent(judged.path_excess)
+        ),
+        Verdict::Lost => format!(
+            "lost: {}",
+            run.mission.as_deref().unwrap_or("B not reached")
+        ),
+        Verdict::NoReference => run.mission.clone().unwrap_or_else(|| "-".into()),
+    }
+}
+
+/// The missions against the unfaulted one: reached, late, lost; path and time excess.
+fn print_missions(runs: &[ChaosRun], reference: Option<&MissionOutcome>) {
+    let Some(reference) = reference.filter(|mission| mission.goal_reached) else {
+        return;
+    };
+    let judged: Vec<&FaultedMission> = runs
+        .iter()
+        .filter_map(|run| run.vs_unfaulted.as_ref())
+        .collect();
+    let count = |verdict: Verdict| judged.iter().filter(|j| j.verdict == verdict).count();
+    let mut paths: Vec<f64> = judged.iter().filter_map(|j| j.path_excess).collect();
+    let mut times: Vec<f64> = judged.iter().filter_map(|j| j.time_excess).collect();
+    let spread = |values: &mut [f64]| {
+        median_and_worst(values).map_or("-".to_owned(), |(median, worst)| {
+            format!("median {:+.1} %, worst {:+.1} %", median * 1e2, worst * 1e2)
+        })
+    };
+    println!(
+        "missions against the unfaulted one (B in {} frames, {:.1} m): B reached in time {}/{}, late {}, lost {}; path {}; frames to B {}",
+        reference.frames,
+        reference.executed_path_m,
+        count(Verdict::Reached),
+        judged.len(),
+        count(Verdict::ReachedLate),
+        count(Verdict::Lost),
+        spread(&mut paths),
+        spread(&mut times),
+    );
+}
+
 /// Exits whose reason shows a Rust panic (exit code 101).
 fn count_panics(report: &hopnav_supervisor::report::RunReport) -> usize {
     report
@@ -296,7 +432,7 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
         out,
-        "\n{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<20} outcome",
+        "\n{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} outcome",
         "run",
         "injected",
         "detected",
@@ -363,7 +499,7 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             |value: Option<&f64>| value.map_or("-".to_owned(), |s| format!("{:.0} ms", s * 1e3));
         let _ = writeln!(
             out,
-            "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<20} {}",
+            "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} {}",
             run.run,
             run.faults.len(),
             detected,
@@ -372,7 +508,7 @@ fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
             ms(recoveries.last()),
             format!("{}/{}", run.hopnav_files_before, run.hopnav_files_after),
             run.panics,
-            run.mission.as_deref().unwrap_or("-"),
+            mission_cell(run),
             run.outcome
         );
     }

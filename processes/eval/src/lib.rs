@@ -8,6 +8,7 @@
 //! - [`map_accuracy`]: obstacle cells against rocks;
 //! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
 //! - [`traversability`]: the ground the map blocks near the track against the rocks';
+//! - [`faulted_mission`]: a chaos launch's mission against the same launch without faults;
 //! - [`figure`]: the mission's Fig.-6 map;
 //! - [`evaluator`]: the [`hopnav_supervisor::MissionEvaluator`] `hopnav launch` passes in.
 //!
@@ -15,6 +16,7 @@
 #![warn(missing_docs)]
 
 pub mod evaluator;
+pub mod faulted_mission;
 pub mod figure;
 pub mod full_knowledge;
 pub mod map_accuracy;

@@ -23,6 +23,9 @@ pub struct FaultRecord {
     /// Seconds from firing to the process working again (ready after a restart, or its
     /// first heartbeat after a stall).
     pub recovered_after_s: Option<f64>,
+    /// Frame during which the process was working again (for kills and stalls): frames from
+    /// `injected_frame` to here are the fault's downtime in simulated time.
+    pub recovered_frame: Option<u64>,
     /// What happened, in words.
     pub effect: String,
 }
@@ -61,6 +64,8 @@ pub struct FaultInjector {
     /// Fired faults waiting for detection or recovery: (slot, record, fired at).
     open: Vec<(usize, usize, Instant)>,
     records: Vec<FaultRecord>,
+    /// The frame the launch is in (the last `on_frame_start`).
+    frame_index: u64,
 }
 
 impl FaultInjector {
@@ -90,6 +95,7 @@ impl FaultInjector {
                 injected_at_s: None,
                 detected_after_s: None,
                 recovered_after_s: None,
+                recovered_frame: None,
                 effect: match spec.kind {
                     FaultKind::Drop { percent } => format!(
                         "the publisher dropped ~{percent}% of its samples all launch; consumers bridge the gaps"
@@ -125,6 +131,7 @@ impl FaultInjector {
         since_start_s: f64,
         actions: &mut Vec<FaultAction>,
     ) {
+        self.frame_index = frame_index;
         let mut index = 0;
         while index < self.scheduled.len() {
             if self.scheduled[index].frame > frame_index {
@@ -183,6 +190,7 @@ impl FaultInjector {
     /// The process in `slot` reported ready after a restart, or heartbeated after a stall.
     pub fn on_alive(&mut self, slot: usize, now: Instant, restarted: bool) {
         let stalls = &self.stalls;
+        let frame_index = self.frame_index;
         self.open.retain(|(open_slot, record, fired)| {
             if *open_slot != slot || stalls.iter().any(|stall| stall.record == *record) {
                 return true;
@@ -194,6 +202,7 @@ impl FaultInjector {
                 return true;
             }
             entry.recovered_after_s = Some(now.duration_since(*fired).as_secs_f64());
+            entry.recovered_frame = Some(frame_index);
             entry.effect = format!(
                 "{}; recovered: {}",
                 entry.effect,
@@ -242,9 +251,11 @@ mod tests {
             start + std::time::Duration::from_millis(5),
             "killed by signal 9",
         );
+        injector.on_frame_start(22, start, 2.2, &mut actions);
         injector.on_alive(1, start + std::time::Duration::from_millis(300), true);
         let records = injector.into_records();
         assert_eq!(records[0].injected_frame, Some(20));
+        assert_eq!(records[0].recovered_frame, Some(22));
         assert!((records[0].detected_after_s.unwrap() - 0.005).abs() < 1e-6);
         assert!((records[0].recovered_after_s.unwrap() - 0.3).abs() < 1e-6);
     }

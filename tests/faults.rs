@@ -225,6 +225,11 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
         }
     }
     assert_eq!(process(&report, "physics")["restarts"], 0);
+    // The restarted mapper took in the clouds its snapshot did not hold yet.
+    assert!(
+        stderr.contains("mapper: took in "),
+        "no clouds replayed after the mapper's restart\n{stderr}"
+    );
     assert_eq!(report["leftover_files"], 0);
     assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }

@@ -33,6 +33,18 @@ impl TopicSpec {
         }
     }
 
+    /// A feature-cloud topic: a deep history for a restarted mapper, and few subscribers
+    /// (the mapper, its restart, the recorder), as each one's buffer is as deep.
+    const fn cloud(name: &'static str) -> Self {
+        Self {
+            name: Cow::Borrowed(name),
+            history_size: 24,
+            subscriber_buffer: 24,
+            max_publishers: 4,
+            max_subscribers: 4,
+        }
+    }
+
     /// Nodes that may hold a port of this topic at once.
     pub fn max_nodes(&self) -> usize {
         (self.max_publishers + self.max_subscribers) * 2
@@ -76,10 +88,12 @@ pub const ROVER_STEREO: TopicSpec = TopicSpec::fixed("hopnav/camera/rover_stereo
 pub const JUMPER_POSE: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/pose", 1, 8);
 /// rover_vo: estimated rover pose, every frame.
 pub const ROVER_POSE: TopicSpec = TopicSpec::fixed("hopnav/rover_vo/pose", 1, 8);
-/// jumper_vo: world-frame feature cloud, each keyframe.
-pub const JUMPER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/jumper_vo/cloud", 1, 4);
-/// rover_vo: world-frame feature cloud, each keyframe.
-pub const ROVER_CLOUD: TopicSpec = TopicSpec::fixed("hopnav/rover_vo/cloud", 1, 4);
+/// jumper_vo: world-frame feature cloud, each keyframe. History 24 (with the rover's): a
+/// restarted mapper restores a snapshot up to `snapshot_every_frames` old and takes in the
+/// clouds published since from here.
+pub const JUMPER_CLOUD: TopicSpec = TopicSpec::cloud("hopnav/jumper_vo/cloud");
+/// rover_vo: world-frame feature cloud, each keyframe (history: see [`JUMPER_CLOUD`]).
+pub const ROVER_CLOUD: TopicSpec = TopicSpec::cloud("hopnav/rover_vo/cloud");
 /// mapper: changed cells only.
 pub const MAP_UPDATES: TopicSpec = TopicSpec::fixed("hopnav/mapper/cells", 0, 16);
 /// mapper: every known cell, every few frames. History 1: a restarted planner reads the

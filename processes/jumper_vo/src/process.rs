@@ -190,6 +190,9 @@ impl Process for JumperVoProcess {
         tick: &FrameTick,
     ) -> Result<(), JumperVoProcessError> {
         self.resume()?;
+        // A restarted mapper gets the cloud history now, not at the next keyframe (a resting
+        // jumper sends none for minutes).
+        self.clouds.update_connections()?;
         if let Some(launch) = self.launches.receive_latest()?
             && launch.hop_index > self.last_hop_index
         {

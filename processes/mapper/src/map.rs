@@ -38,6 +38,11 @@ pub struct MapCounters {
     /// point by its sigma) a zero one.
     #[serde(default)]
     pub bad_sigma: u64,
+    /// Frame index of the last cloud taken in, per robot (`[jumper, rover]`): a restored
+    /// snapshot holds the clouds up to these, so a restarted mapper takes in only later ones
+    /// from the cloud topics' history.
+    #[serde(default)]
+    pub last_cloud_frame: [Option<u64>; 2],
 }
 
 /// Published state of one cell.
@@ -219,6 +224,16 @@ impl FeatureMap {
     /// What happened to the features so far.
     pub fn counters(&self) -> MapCounters {
         self.counters
+    }
+
+    /// Records that `robot`'s cloud of frame `frame_index` has been taken in.
+    pub fn note_cloud_frame(&mut self, robot: Robot, frame_index: u64) {
+        self.counters.last_cloud_frame[cloud_slot(robot)] = Some(frame_index);
+    }
+
+    /// Frame index of the last cloud of `robot` taken in, if any.
+    pub fn last_cloud_frame(&self, robot: Robot) -> Option<u64> {
+        self.counters.last_cloud_frame[cloud_slot(robot)]
     }
 
     /// Adds the features of one cloud observed by `robot` from an unknown viewpoint (each
@@ -865,6 +880,14 @@ fn vertical_sigma_m(camera_m: Option<[f64; 3]>, point: &FeaturePoint) -> f64 {
         return depth_sigma_m;
     }
     depth_sigma_m * ray_m[2].abs() / range_m
+}
+
+/// Index of `robot` in [`MapCounters::last_cloud_frame`].
+fn cloud_slot(robot: Robot) -> usize {
+    match robot {
+        Robot::Jumper => 0,
+        Robot::Rover => 1,
+    }
 }
 
 #[cfg(test)]

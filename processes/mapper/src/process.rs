@@ -10,7 +10,7 @@
 //! whole known map is also sent periodically, for a planner that restarted.
 
 use hopnav_config::ConfigError;
-use hopnav_ipc::messages::{CellUpdate, CloudHeader, FrameTick, MapHeader, Robot};
+use hopnav_ipc::messages::{CellUpdate, CloudHeader, FeaturePoint, FrameTick, MapHeader, Robot};
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
@@ -63,32 +63,105 @@ pub struct MapperProcess {
     snapshots: Option<SnapshotWriter>,
     changed_since_snapshot: bool,
     frames: u64,
+    /// After a restore: the last cloud frames (`[jumper, rover]`) the snapshot holds; the
+    /// cloud topics' history redelivers those and the later ones.
+    restored_cloud_frames: [Option<u64>; 2],
+    /// After a restore: steps left in which the cloud history is awaited (see `catch_up`).
+    catching_up_steps: u32,
 }
 
+/// Steps a restarted mapper waits for the cloud history (it comes at the publishers' next
+/// frame; a VO that is down too delays it).
+const CATCH_UP_STEPS: u32 = 10;
+
 impl MapperProcess {
-    fn drain(&mut self, robot: Robot) -> Result<(), MapperProcessError> {
-        let subscriber = match robot {
-            Robot::Jumper => &self.jumper_clouds,
-            Robot::Rover => &self.rover_clouds,
-        };
-        while let Some(cloud) = subscriber.receive()? {
-            if cloud.header().robot != robot.code() {
-                self.wrong_robot_clouds += 1;
-                continue;
-            }
-            if robot == Robot::Jumper && !self.accept_jumper_clouds {
-                continue;
-            }
-            let camera_m = cloud.header().world_from_camera.position_m;
-            if self
-                .map
-                .insert_cloud_seen_from(robot, Some(camera_m), cloud.elements())
-                > 0
-            {
-                self.changed_since_snapshot = true;
+    /// Takes in every cloud received since the last frame (the jumper's first, as always).
+    fn drain(&mut self) -> Result<(), MapperProcessError> {
+        for robot in [Robot::Jumper, Robot::Rover] {
+            while let Some(cloud) = self.subscriber(robot).receive()? {
+                let header = *cloud.header();
+                if self.wanted(robot, &header) {
+                    self.take_in(robot, &header, cloud.elements());
+                }
             }
         }
         Ok(())
+    }
+
+    /// A restarted mapper's first clouds: the cloud topics' history, which holds clouds the
+    /// snapshot already has and those published since. The later ones are taken in frame by
+    /// frame, with the map's update after each frame as the uninterrupted mapper did it, so
+    /// the map comes back as it would have been. Returns whether any cloud came (the history
+    /// reaches a new subscriber at the publisher's next frame).
+    fn catch_up(&mut self) -> Result<bool, MapperProcessError> {
+        let mut history: Vec<(u64, Robot, CloudHeader, Vec<FeaturePoint>)> = Vec::new();
+        let mut received = false;
+        for robot in [Robot::Jumper, Robot::Rover] {
+            while let Some(cloud) = self.subscriber(robot).receive()? {
+                received = true;
+                let header = *cloud.header();
+                if self.wanted(robot, &header) {
+                    history.push((
+                        header.stamp.frame_index,
+                        robot,
+                        header,
+                        cloud.elements().to_vec(),
+                    ));
+                }
+            }
+        }
+        // Stable: within a frame the jumper's clouds stay first.
+        history.sort_by_key(|(frame_index, ..)| *frame_index);
+        let clouds_taken_in = history.len();
+        for (index, (frame_index, robot, header, points)) in history.iter().enumerate() {
+            self.take_in(*robot, header, points);
+            let frame_ends = history
+                .get(index + 1)
+                .is_none_or(|(next_frame, ..)| next_frame != frame_index);
+            if frame_ends && index + 1 < history.len() {
+                self.map.update(); // the last frame's update is the caller's, as every frame
+            }
+        }
+        if clouds_taken_in > 0 {
+            eprintln!("mapper: took in {clouds_taken_in} clouds published since the snapshot");
+        }
+        Ok(received)
+    }
+
+    fn subscriber(&self, robot: Robot) -> &SliceSubscriber<CloudHeader> {
+        match robot {
+            Robot::Jumper => &self.jumper_clouds,
+            Robot::Rover => &self.rover_clouds,
+        }
+    }
+
+    /// Whether a cloud on `robot`'s topic is to be taken in: from that robot, accepted in this
+    /// mode, and not already in a restored snapshot. Counts clouds of the wrong robot.
+    fn wanted(&mut self, robot: Robot, header: &CloudHeader) -> bool {
+        if header.robot != robot.code() {
+            self.wrong_robot_clouds += 1;
+            return false;
+        }
+        if robot == Robot::Jumper && !self.accept_jumper_clouds {
+            return false;
+        }
+        let restored_up_to = match robot {
+            Robot::Jumper => self.restored_cloud_frames[0],
+            Robot::Rover => self.restored_cloud_frames[1],
+        };
+        restored_up_to.is_none_or(|last| header.stamp.frame_index > last)
+    }
+
+    fn take_in(&mut self, robot: Robot, header: &CloudHeader, points: &[FeaturePoint]) {
+        self.map.note_cloud_frame(robot, header.stamp.frame_index);
+        let camera_m = header.world_from_camera.position_m;
+        if self
+            .map
+            .insert_cloud_seen_from(robot, Some(camera_m), points)
+            > 0
+        {
+            self.changed_since_snapshot = true;
+        }
     }
 
     fn publish(&mut self, tick: &FrameTick) -> Result<(), MapperProcessError> {
@@ -190,10 +263,21 @@ impl Process for MapperProcess {
             .parent()
             .map(|dir| dir.join(SNAPSHOT_FILE));
         let mut restored = false;
-        if let Some(path) = &snapshot_path {
+        // Only a restart restores: a first start in a reused run folder must not take the
+        // previous launch's map.
+        if context.identity.incarnation > 0
+            && let Some(path) = &snapshot_path
+        {
             match snapshot::restore_file(&mut map, path) {
                 Ok(true) => {
-                    eprintln!("mapper: map restored from {}", path.display());
+                    let marks = map.counters().last_cloud_frame;
+                    eprintln!(
+                        "mapper: map restored from {} (clouds up to frame {} of the jumper, {} \
+                         of the rover; later ones come from the cloud topics' history)",
+                        path.display(),
+                        frame_text(marks[0]),
+                        frame_text(marks[1])
+                    );
                     restored = true;
                 }
                 Ok(false) => {}
@@ -220,6 +304,11 @@ impl Process for MapperProcess {
             },
             _ => None,
         };
+        let restored_cloud_frames = if restored {
+            map.counters().last_cloud_frame
+        } else {
+            [None, None]
+        };
         Ok(Self {
             updates: SlicePublisher::open(node, &topics::MAP_UPDATES, cells)?,
             snapshot_topic: SlicePublisher::open(node, &topics::MAP_SNAPSHOT, cells)?,
@@ -237,6 +326,8 @@ impl Process for MapperProcess {
             snapshots,
             changed_since_snapshot: false,
             frames: 0,
+            restored_cloud_frames,
+            catching_up_steps: if restored { CATCH_UP_STEPS } else { 0 },
         })
     }
 
@@ -245,8 +336,16 @@ impl Process for MapperProcess {
         _context: &ProcessContext,
         tick: &FrameTick,
     ) -> Result<(), MapperProcessError> {
-        self.drain(Robot::Jumper)?;
-        self.drain(Robot::Rover)?;
+        if self.catching_up_steps > 0 {
+            let received = self.catch_up()?;
+            self.catching_up_steps = if received {
+                0
+            } else {
+                self.catching_up_steps - 1
+            };
+        } else {
+            self.drain()?;
+        }
         self.map.update();
         self.changes.clear();
         self.map.collect_changes(&mut self.changes);
@@ -279,6 +378,10 @@ impl Process for MapperProcess {
             writer.finish();
         }
     }
+}
+
+fn frame_text(frame: Option<u64>) -> String {
+    frame.map_or_else(|| "none".to_owned(), |frame| frame.to_string())
 }
 
 #[cfg(test)]

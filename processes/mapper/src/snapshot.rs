@@ -33,7 +33,7 @@ use crate::map::{FeatureMap, MapCounters};
 
 /// Version of the snapshot layout; bump when [`CellStats`], [`CellBelief`] or [`CellPoints`]
 /// changes.
-pub const SNAPSHOT_VERSION: u32 = 4;
+pub const SNAPSHOT_VERSION: u32 = 5;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]
@@ -254,6 +254,20 @@ mod tests {
                 .any(|c| c.class == CellClass::Obstacle.code())
         );
         assert_eq!(restored.counters(), original.counters());
+    }
+
+    #[test]
+    fn a_restored_map_knows_which_clouds_it_already_holds() {
+        let mut original = map_with_rock();
+        original.note_cloud_frame(Robot::Rover, 435);
+        original.note_cloud_frame(Robot::Jumper, 409);
+        let mut bytes = Vec::new();
+        encode(&original, &mut bytes).unwrap();
+        let mut restored = FeatureMap::new(&config(), *original.geometry());
+        assert_eq!(restored.last_cloud_frame(Robot::Rover), None);
+        restore(&mut restored, &bytes).unwrap();
+        assert_eq!(restored.last_cloud_frame(Robot::Rover), Some(435));
+        assert_eq!(restored.last_cloud_frame(Robot::Jumper), Some(409));
     }
 
     #[test]

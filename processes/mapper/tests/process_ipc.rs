@@ -25,13 +25,21 @@ fn tick(frame_index: u64) -> FrameTick {
 }
 
 fn context(namespace: &Namespace, run_dir: &std::path::Path) -> ProcessContext {
+    context_of_incarnation(namespace, run_dir, 0)
+}
+
+fn context_of_incarnation(
+    namespace: &Namespace,
+    run_dir: &std::path::Path,
+    incarnation: u32,
+) -> ProcessContext {
     ProcessContext {
         node: namespace.create_node("mapper").expect("node"),
         identity: ProcessIdentity {
             name: "mapper".into(),
             run_id: namespace.run_id().into(),
             slot: 0,
-            incarnation: 0,
+            incarnation,
             heartbeat_period: Duration::from_millis(100),
             config_path: run_dir.join("config.toml"),
         },
@@ -137,7 +145,15 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     drop(mapper);
     drop(context);
     assert!(run_dir.join(SNAPSHOT_FILE).exists());
+    // A first start in the same folder (a reused run id) does not take the old map.
     let context = self::context(&namespace, &run_dir);
+    let mut fresh = MapperProcess::new(&context).expect("new");
+    fresh.step(&context, &tick(0)).expect("step");
+    let (fresh_cells, _) = receive_all(&updates);
+    assert!(fresh_cells.is_empty(), "{} cells", fresh_cells.len());
+    drop(fresh);
+    drop(context);
+    let context = context_of_incarnation(&namespace, &run_dir, 1);
     let mut restarted = MapperProcess::new(&context).expect("new");
     restarted.step(&context, &tick(3)).expect("step");
     let (recovered, _) = receive_all(&updates);

@@ -352,6 +352,8 @@ impl Process for RoverVoProcess {
             self.resume_pose = Some(last.world_from_body.to_isometry());
             self.resume_frame_index = Some(last.stamp.frame_index);
         }
+        // A restarted mapper gets the cloud history now, not at the next keyframe.
+        self.clouds.update_connections()?;
         while let Some(sample) = self.imu.receive()? {
             if let Some(q) = imu_attitude(&sample) {
                 self.last_imu = Some(q);

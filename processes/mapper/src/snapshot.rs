@@ -3,9 +3,11 @@
 //!
 //! Encoding goes through [`hopnav_ipc::codec`] (the project's one serialization module).
 //! Only the statistics are stored; classes, inflation and ground are recomputed on restore,
-//! so a snapshot stays valid when thresholds change. The geometry must match. A cell takes
-//! about 200 bytes, so grids above ≈ 300 000 cells exceed the codec's 64 MiB decode limit and
-//! are refused at encoding ([`SnapshotError::TooLarge`]).
+//! so a snapshot stays valid when thresholds change. The geometry must match. Only cells that
+//! hold something are stored (with their index): a mission's map touches a few percent of its
+//! grid, so a snapshot is about that share of the grid's size and restores in milliseconds. A
+//! stored cell takes about 260 bytes; snapshots beyond the codec's 64 MiB decode limit are
+//! refused at encoding ([`SnapshotError::TooLarge`]).
 //!
 //! ```
 //! use hopnav_ipc::messages::{FeaturePoint, Robot};
@@ -33,7 +35,7 @@ use crate::map::{FeatureMap, MapCounters};
 
 /// Version of the snapshot layout; bump when [`CellStats`], [`CellBelief`] or [`CellPoints`]
 /// changes.
-pub const SNAPSHOT_VERSION: u32 = 5;
+pub const SNAPSHOT_VERSION: u32 = 6;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]
@@ -63,6 +65,14 @@ pub enum SnapshotError {
         /// [`hopnav_ipc::codec::MAX_DECODE_BYTES`].
         limit: usize,
     },
+    /// A stored cell lies outside the grid (a corrupt file).
+    #[error("snapshot cell {index} outside the grid of {cells} cells")]
+    CellOutOfGrid {
+        /// The cell index in the file.
+        index: u32,
+        /// Cells in the grid.
+        cells: usize,
+    },
     /// The snapshot's grid differs from the map's.
     #[error("snapshot grid {found:?} differs from the configured grid {expected:?}")]
     Geometry {
@@ -78,9 +88,12 @@ struct SnapshotRef<'a> {
     version: u32,
     geometry: GridGeometry,
     counters: MapCounters,
-    stats: &'a [CellStats],
-    /// The `traversability` model's beliefs (empty under the `features` model).
-    beliefs: &'a [CellBelief],
+    /// The cells whose statistics differ from the empty cell's, by index.
+    stats: Vec<(u32, &'a CellStats)>,
+    /// The `traversability` model keeps beliefs (false under the `features` model).
+    has_beliefs: bool,
+    /// The cells whose belief differs from the prior, by index.
+    beliefs: Vec<(u32, &'a CellBelief)>,
     /// The fitted rocks' points by cell (empty without the fit).
     dome_points: &'a [(u32, CellPoints)],
 }
@@ -90,9 +103,40 @@ struct SnapshotOwned {
     version: u32,
     geometry: GridGeometry,
     counters: MapCounters,
-    stats: Vec<CellStats>,
-    beliefs: Vec<CellBelief>,
+    stats: Vec<(u32, CellStats)>,
+    has_beliefs: bool,
+    beliefs: Vec<(u32, CellBelief)>,
     dome_points: Vec<(u32, CellPoints)>,
+}
+
+/// The entries of `cells` that differ from `empty`, by index.
+fn non_empty<'a, T: PartialEq>(cells: &'a [T], empty: &T) -> Vec<(u32, &'a T)> {
+    cells
+        .iter()
+        .enumerate()
+        .filter(|(_, cell)| *cell != empty)
+        .map(|(index, cell)| (index as u32, cell))
+        .collect()
+}
+
+/// `cell_count` empty cells with the stored ones put back; an index outside the grid is an
+/// error.
+fn expand<T: Copy>(
+    stored: &[(u32, T)],
+    empty: T,
+    cell_count: usize,
+) -> Result<Vec<T>, SnapshotError> {
+    let mut cells = vec![empty; cell_count];
+    for &(index, cell) in stored {
+        let slot = cells
+            .get_mut(index as usize)
+            .ok_or(SnapshotError::CellOutOfGrid {
+                index,
+                cells: cell_count,
+            })?;
+        *slot = cell;
+    }
+    Ok(cells)
 }
 
 /// Encodes the map's statistics into `buffer` (cleared first; its allocation is reused).
@@ -125,8 +169,9 @@ pub(crate) fn encode_parts(
         version: SNAPSHOT_VERSION,
         geometry: *geometry,
         counters,
-        stats,
-        beliefs,
+        stats: non_empty(stats, &CellStats::default()),
+        has_beliefs: !beliefs.is_empty(),
+        beliefs: non_empty(beliefs, &CellBelief::default()),
         dome_points,
     };
     hopnav_ipc::codec::encode_into(&snapshot, buffer)?;
@@ -150,21 +195,23 @@ pub fn restore(map: &mut FeatureMap, bytes: &[u8]) -> Result<(), SnapshotError> 
         });
     }
     let expected = *map.geometry();
-    let beliefs_fit =
-        snapshot.beliefs.is_empty() || snapshot.beliefs.len() == expected.cell_count();
-    if snapshot.geometry != expected
-        || snapshot.stats.len() != expected.cell_count()
-        || !beliefs_fit
-    {
+    if snapshot.geometry != expected {
         return Err(SnapshotError::Geometry {
             found: snapshot.geometry,
             expected,
         });
     }
-    map.set_stats(&snapshot.stats, snapshot.counters);
+    let cell_count = expected.cell_count();
+    let stats = expand(&snapshot.stats, CellStats::default(), cell_count)?;
     // A snapshot of the other obstacle model has no beliefs (or the map keeps none): the
     // beliefs then start empty and the statistics alone come back.
-    map.set_beliefs(&snapshot.beliefs);
+    let beliefs = if snapshot.has_beliefs {
+        expand(&snapshot.beliefs, CellBelief::default(), cell_count)?
+    } else {
+        Vec::new()
+    };
+    map.set_stats(&stats, snapshot.counters);
+    map.set_beliefs(&beliefs);
     map.set_dome_points(&snapshot.dome_points);
     Ok(())
 }
@@ -289,6 +336,34 @@ mod tests {
             Err(SnapshotError::Version { .. })
         ));
         assert_eq!(same.counters(), MapCounters::default());
+    }
+
+    #[test]
+    fn only_cells_that_hold_something_are_stored_and_one_off_the_grid_is_refused() {
+        let map = map_with_rock();
+        let mut bytes = Vec::new();
+        encode(&map, &mut bytes).unwrap();
+        let whole_grid_bytes = size_of_val(map.stats_slice());
+        assert!(
+            // The rock's cloud covers about a fifth of this small grid.
+            bytes.len() * 3 < whole_grid_bytes,
+            "{} bytes for a grid of {whole_grid_bytes}",
+            bytes.len()
+        );
+        // A file that stores a cell past the grid's end.
+        let geometry = *map.geometry();
+        let mut stats = map.stats_slice().to_vec();
+        stats.push(CellStats {
+            count: 1,
+            ..CellStats::default()
+        });
+        encode_parts(&geometry, map.counters(), &stats, &[], &[], &mut bytes).unwrap();
+        let mut restored = FeatureMap::new(&config(), geometry);
+        assert!(matches!(
+            restore(&mut restored, &bytes),
+            Err(SnapshotError::CellOutOfGrid { .. })
+        ));
+        assert_eq!(restored.counters(), MapCounters::default());
     }
 
     #[test]

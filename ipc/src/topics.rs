@@ -34,14 +34,15 @@ impl TopicSpec {
     }
 
     /// A feature-cloud topic: a deep history for a restarted mapper, and few subscribers
-    /// (the mapper, its restart, the recorder), as each one's buffer is as deep.
+    /// (the mapper and the recorder, each with a restart overlapping, plus two spare), as
+    /// each one's buffer is as deep.
     const fn cloud(name: &'static str) -> Self {
         Self {
             name: Cow::Borrowed(name),
             history_size: 24,
             subscriber_buffer: 24,
             max_publishers: 4,
-            max_subscribers: 4,
+            max_subscribers: 6,
         }
     }
 

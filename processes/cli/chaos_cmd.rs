@@ -196,6 +196,8 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         config.run.out_dir = args.out.display().to_string();
         config.mission.stop_on_goal = true;
         config.faults.seed = faults_seed;
+        // Faults from the config file would make the reference faulted; each run sets its own.
+        config.faults.inject.clear();
         config
     };
     // A graph runs a mission when its planner runs (as the supervisor decides).
@@ -208,6 +210,12 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         match launch_once(chaos_config(args.seed), &executable) {
             Ok(outcome) if outcome.interrupted => {
                 eprintln!("interrupted: stopped during the unfaulted launch, before any run");
+                return ExitCode::from(crate::EXIT_INTERRUPTED);
+            }
+            Err(LaunchError::Interrupted) => {
+                eprintln!(
+                    "interrupted: stopped while the unfaulted launch started, before any run"
+                );
                 return ExitCode::from(crate::EXIT_INTERRUPTED);
             }
             Ok(outcome) => mission_outcome(&outcome, base.run.frame_period_s()),

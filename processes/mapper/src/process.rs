@@ -9,14 +9,16 @@
 //! restores them and republishes its whole map (issue #7). With `republish_every_frames` the
 //! whole known map is also sent periodically, for a planner that restarted.
 
-use hopnav_config::ConfigError;
+use std::path::Path;
+
+use hopnav_config::{ConfigError, HopnavConfig};
 use hopnav_ipc::messages::{CellUpdate, CloudHeader, FeaturePoint, FrameTick, MapHeader, Robot};
-use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentity, take_prepared};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 
 use crate::config::{MapperConfig, grid_geometry, mapper_section};
-use crate::map::{CellState, FeatureMap};
+use crate::map::{CellState, FeatureMap, cloud_slot};
 use crate::oracle_prior::{OraclePriorError, perfect_scout_report};
 use crate::snapshot;
 use crate::snapshot_writer::SnapshotWriter;
@@ -68,10 +70,36 @@ pub struct MapperProcess {
     restored_cloud_frames: [Option<u64>; 2],
     /// After a restore: steps left in which the cloud history is awaited (see `catch_up`).
     catching_up_steps: u32,
+    /// Per robot (`[jumper, rover]`): some of its cloud history has arrived.
+    history_seen: [bool; 2],
+    /// Clouds taken in while catching up.
+    caught_up_clouds: usize,
 }
 
-/// Steps a restarted mapper waits for the cloud history (it comes at the publishers' next
-/// frame; a VO that is down too delays it).
+/// What a standby builds ahead of need: the configuration and the empty, grid-sized map
+/// (allocating and zeroing it takes tens of milliseconds at the default grid).
+struct EmptyMap {
+    config: HopnavConfig,
+    section: MapperConfig,
+    map: FeatureMap,
+}
+
+impl EmptyMap {
+    fn build(config_path: &Path) -> Result<Self, MapperProcessError> {
+        let config = hopnav_config::load_file(config_path)?;
+        let section = mapper_section(&config)?;
+        let geometry = grid_geometry(&section)?;
+        let map = FeatureMap::new(&section, geometry);
+        Ok(Self {
+            config,
+            section,
+            map,
+        })
+    }
+}
+
+/// Steps in which a restarted mapper takes its clouds in frame by frame (the history comes at
+/// the publishers' next frame; a VO that is down too delays it).
 const CATCH_UP_STEPS: u32 = 10;
 
 impl MapperProcess {
@@ -91,15 +119,28 @@ impl MapperProcess {
     /// A restarted mapper's first clouds: the cloud topics' history, which holds clouds the
     /// snapshot already has and those published since. The later ones are taken in frame by
     /// frame, with the map's update after each frame as the uninterrupted mapper did it, so
-    /// the map comes back as it would have been. Returns whether any cloud came (the history
-    /// reaches a new subscriber at the publisher's next frame).
-    fn catch_up(&mut self) -> Result<bool, MapperProcessError> {
+    /// the map comes back as it would have been. (The history reaches a new subscriber at its
+    /// publisher's next frame.)
+    fn catch_up(&mut self) -> Result<(), MapperProcessError> {
         let mut history: Vec<(u64, Robot, CloudHeader, Vec<FeaturePoint>)> = Vec::new();
-        let mut received = false;
         for robot in [Robot::Jumper, Robot::Rover] {
+            let mut first = true;
             while let Some(cloud) = self.subscriber(robot).receive()? {
-                received = true;
                 let header = *cloud.header();
+                let slot = cloud_slot(robot);
+                if first
+                    && !self.history_seen[slot]
+                    && let Some(mark) = self.restored_cloud_frames[slot]
+                    && header.stamp.frame_index > mark.saturating_add(1)
+                {
+                    eprintln!(
+                        "mapper: the {robot:?} cloud history starts at frame {}, after the \
+                         snapshot's {mark}: clouds published in between, if any, are lost",
+                        header.stamp.frame_index
+                    );
+                }
+                first = false;
+                self.history_seen[slot] = true;
                 if self.wanted(robot, &header) {
                     history.push((
                         header.stamp.frame_index,
@@ -122,10 +163,8 @@ impl MapperProcess {
                 self.map.update(); // the last frame's update is the caller's, as every frame
             }
         }
-        if clouds_taken_in > 0 {
-            eprintln!("mapper: took in {clouds_taken_in} clouds published since the snapshot");
-        }
-        Ok(received)
+        self.caught_up_clouds += clouds_taken_in;
+        Ok(())
     }
 
     fn subscriber(&self, robot: Robot) -> &SliceSubscriber<CloudHeader> {
@@ -145,11 +184,8 @@ impl MapperProcess {
         if robot == Robot::Jumper && !self.accept_jumper_clouds {
             return false;
         }
-        let restored_up_to = match robot {
-            Robot::Jumper => self.restored_cloud_frames[0],
-            Robot::Rover => self.restored_cloud_frames[1],
-        };
-        restored_up_to.is_none_or(|last| header.stamp.frame_index > last)
+        self.restored_cloud_frames[cloud_slot(robot)]
+            .is_none_or(|last| header.stamp.frame_index > last)
     }
 
     fn take_in(&mut self, robot: Robot, header: &CloudHeader, points: &[FeaturePoint]) {
@@ -250,13 +286,22 @@ impl MapperProcess {
 impl Process for MapperProcess {
     type Error = MapperProcessError;
 
+    fn prepare(identity: &ProcessIdentity) -> Result<Prepared, MapperProcessError> {
+        Ok(Prepared::new(EmptyMap::build(&identity.config_path)?))
+    }
+
     fn new(context: &ProcessContext) -> Result<Self, MapperProcessError> {
-        let config = hopnav_config::load_file(&context.identity.config_path)?;
-        let section = mapper_section(&config)?;
-        let geometry = grid_geometry(&section)?;
+        let EmptyMap {
+            config,
+            section,
+            mut map,
+        } = match take_prepared::<EmptyMap>() {
+            Some(prepared) => prepared,
+            None => EmptyMap::build(&context.identity.config_path)?,
+        };
+        let geometry = *map.geometry();
         let cells = geometry.cell_count();
         let node = &context.node;
-        let mut map = FeatureMap::new(&section, geometry);
         let snapshot_path = context
             .identity
             .config_path
@@ -328,6 +373,8 @@ impl Process for MapperProcess {
             frames: 0,
             restored_cloud_frames,
             catching_up_steps: if restored { CATCH_UP_STEPS } else { 0 },
+            history_seen: [false; 2],
+            caught_up_clouds: 0,
         })
     }
 
@@ -337,12 +384,16 @@ impl Process for MapperProcess {
         tick: &FrameTick,
     ) -> Result<(), MapperProcessError> {
         if self.catching_up_steps > 0 {
-            let received = self.catch_up()?;
-            self.catching_up_steps = if received {
-                0
-            } else {
-                self.catching_up_steps - 1
-            };
+            self.catch_up()?;
+            self.catching_up_steps -= 1;
+            if self.catching_up_steps == 0 {
+                // Caught up: later clouds are all new (and frame indices need not grow).
+                self.restored_cloud_frames = [None, None];
+                eprintln!(
+                    "mapper: took in {} clouds published since the snapshot, frame by frame",
+                    self.caught_up_clouds
+                );
+            }
         } else {
             self.drain()?;
         }

@@ -185,7 +185,12 @@ impl RoverVoProcess {
                 "rover_vo: restarted without frame {frame_index} (history starts at \
                  {image_frame}): the motion since the last published pose is lost"
             );
-            return Ok(Some(self.stereo.receive_latest()?.unwrap_or(image)));
+            // Hold at most two samples (the subscriber's limit): the newest so far and the next.
+            let mut newest = image;
+            while let Some(next) = self.stereo.receive()? {
+                newest = next;
+            }
+            return Ok(Some(newest));
         }
         // Nothing yet: the camera delivers its history at its next send.
         self.resume_frame_index = Some(frame_index);

@@ -314,6 +314,28 @@ fn a_killed_physics_resumes_its_simulation_instead_of_starting_over() {
         "{stderr}"
     );
     assert!(!stderr.contains("starts over"), "{stderr}");
+    // Both robots go on from where they were: no jump in their true tracks at the restart
+    // (a fresh world would put them back at their start points, metres away).
+    let run_dir = out.join(&run);
+    for robot in ["jumper", "rover"] {
+        let track = tum_positions(&run_dir.join(format!("vo_{robot}_truth.tum")));
+        let step_m = |i: usize| {
+            let (a, b) = (track[i - 1].1, track[i].1);
+            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
+        };
+        let at_kill = track
+            .iter()
+            .position(|(t_s, _)| *t_s > KILL_FRAME as f64 * 0.1 - 1e-6)
+            .unwrap_or_else(|| panic!("{robot}: no pose after the kill"));
+        let before_m = (at_kill - 5..at_kill - 1).map(step_m).fold(0.0, f64::max);
+        for (i, (t_s, _)) in track.iter().enumerate().take(at_kill + 3).skip(at_kill - 1) {
+            assert!(
+                step_m(i) <= 2.0 * before_m + 0.02,
+                "{robot}: moved {:.3} m in the frame to t = {t_s:.1} s (at most {before_m:.3} m per frame before the kill)",
+                step_m(i),
+            );
+        }
+    }
     assert_eq!(report["leftover_files"], 0);
     assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
 }

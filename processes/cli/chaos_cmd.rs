@@ -46,8 +46,8 @@ pub struct ChaosArgs {
     kinds: Vec<String>,
     /// Frames per launch at most (lockstep; a launch stops when the rover reaches B). Missions
     /// are judged only if the unfaulted launch reaches B within this many frames (the default
-    /// terrain's mission takes about 1000).
-    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(20..=1_000_000))]
+    /// terrain's mission takes about 1140).
+    #[arg(long, default_value_t = 1500, value_parser = clap::value_parser!(u64).range(20..=1_000_000))]
     frames: u64,
     /// Folder for the run folders and chaos.json.
     #[arg(long, default_value = "runs/chaos")]

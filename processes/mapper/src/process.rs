@@ -124,12 +124,10 @@ impl MapperProcess {
     fn catch_up(&mut self) -> Result<(), MapperProcessError> {
         let mut history: Vec<(u64, Robot, CloudHeader, Vec<FeaturePoint>)> = Vec::new();
         for robot in [Robot::Jumper, Robot::Rover] {
-            let mut first = true;
             while let Some(cloud) = self.subscriber(robot).receive()? {
                 let header = *cloud.header();
                 let slot = cloud_slot(robot);
-                if first
-                    && !self.history_seen[slot]
+                if !self.history_seen[slot]
                     && let Some(mark) = self.restored_cloud_frames[slot]
                     && header.stamp.frame_index > mark.saturating_add(1)
                 {
@@ -139,7 +137,6 @@ impl MapperProcess {
                         header.stamp.frame_index
                     );
                 }
-                first = false;
                 self.history_seen[slot] = true;
                 if self.wanted(robot, &header) {
                     history.push((
@@ -156,11 +153,12 @@ impl MapperProcess {
         let clouds_taken_in = history.len();
         for (index, (frame_index, robot, header, points)) in history.iter().enumerate() {
             self.take_in(*robot, header, points);
-            let frame_ends = history
+            // Between frames; the last frame's update is the caller's, as every frame.
+            if history
                 .get(index + 1)
-                .is_none_or(|(next_frame, ..)| next_frame != frame_index);
-            if frame_ends && index + 1 < history.len() {
-                self.map.update(); // the last frame's update is the caller's, as every frame
+                .is_some_and(|(next_frame, ..)| next_frame != frame_index)
+            {
+                self.map.update();
             }
         }
         self.caught_up_clouds += clouds_taken_in;

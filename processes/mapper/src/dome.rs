@@ -23,6 +23,8 @@ pub struct RockPoint {
     pub height_m: f32,
     /// One-sigma uncertainty of the height (and, roughly, of the position), > 0.
     pub sigma_m: f32,
+    /// World height of the local ground under the point (its z minus its height), metres.
+    pub ground_z_m: f32,
 }
 
 /// A fitted dome.
@@ -75,6 +77,7 @@ const ITERATIONS: usize = 12;
 ///         xy_m: [2.0 + dx, 1.0 + dy],
 ///         height_m: (0.09 - dx * dx - dy * dy).max(0.0).sqrt(),
 ///         sigma_m: 0.01,
+///         ground_z_m: 0.0,
 ///     })
 ///     .collect();
 /// let fit = fit_dome(&points, 1.0, Some([1.0, 0.0])).unwrap();
@@ -288,6 +291,7 @@ mod tests {
                 height_m: (height * height - dx * dx - dy * dy).max(0.0).sqrt()
                     + if i % 2 == 0 { noise_m } else { -noise_m },
                 sigma_m: 0.03,
+                ground_z_m: 0.0,
             })
             .collect()
     }
@@ -326,6 +330,7 @@ mod tests {
                 xy_m: [dx, dy],
                 height_m: (0.0625 - (dx * dx + dy * dy) / 4.0).max(0.0).sqrt(),
                 sigma_m: 0.02,
+                ground_z_m: 0.0,
             })
             .collect();
         let fit = fit_dome(&points, 2.0, Some([1.0, 0.0])).unwrap();
@@ -364,6 +369,7 @@ mod tests {
                 xy_m: [0.25 * i as f32, 0.0],
                 height_m: 0.4,
                 sigma_m: 0.02,
+                ground_z_m: 0.0,
             })
             .collect();
         assert!(fit_dome(&points, 1.0, Some([0.0, 1.0])).is_none());
@@ -376,6 +382,7 @@ mod tests {
             xy_m: [-0.1, 0.0],
             height_m: 0.6,
             sigma_m: 0.03,
+            ground_z_m: 0.0,
         });
         let fit = fit_dome(&points, 1.0, Some([1.0, 0.0])).unwrap();
         assert!((fit.height_m - 0.3).abs() < 0.06, "{fit:?}");

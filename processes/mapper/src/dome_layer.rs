@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::belief::BeliefClass;
 use crate::dirty::DirtySet;
 use crate::dome::{self, DomeFit, RockPoint};
+use crate::foot;
 use crate::geometry::GridGeometry;
 
 /// Points kept per cell (the newest replace the oldest: the rover's closer look wins).
@@ -72,6 +73,9 @@ pub struct Dome {
     pub height_m: f32,
     /// One-sigma uncertainty of the height, metres.
     pub height_sigma_m: f32,
+    /// How far its downhill foot stands below the ground at its centre, metres
+    /// ([`crate::foot`]).
+    pub foot_drop_m: f32,
 }
 
 /// A refit whose base lies within this of the rock it replaces keeps that rock, metres …
@@ -93,13 +97,25 @@ impl Dome {
             && (self.height_sigma_m - old.height_sigma_m).abs() < height_tolerance_m
     }
 
-    fn from_fit(fit: &DomeFit) -> Self {
+    fn from_fit(fit: &DomeFit, points: &[RockPoint]) -> Self {
         Self {
             centre_m: [fit.centre_m[0] as f32, fit.centre_m[1] as f32],
             base_radius_m: fit.base_radius_m as f32,
             height_m: fit.height_m as f32,
             height_sigma_m: fit.height_sigma_m as f32,
+            foot_drop_m: foot::foot_drop_m(points, fit.base_radius_m) as f32,
         }
+    }
+
+    /// The step the rock makes from its downhill foot: what a wheel meets coming from below,
+    /// and what decides whether the rover can climb it.
+    pub fn step_height_m(&self) -> f32 {
+        self.height_m + self.foot_drop_m
+    }
+
+    /// What `evidence` makes of the ground under this rock.
+    pub fn judged_by(&self, evidence: &impl RockEvidence) -> BeliefClass {
+        evidence.judge(self.step_height_m(), self.height_sigma_m)
     }
 }
 
@@ -195,8 +211,7 @@ impl DomeLayer {
             let fit = match (fit, released.as_slice()) {
                 (Some(new), [old])
                     if new.settled_near(old)
-                        && evidence.judge(new.height_m, new.height_sigma_m)
-                            == evidence.judge(old.height_m, old.height_sigma_m) =>
+                        && new.judged_by(evidence) == old.judged_by(evidence) =>
                 {
                     Some(*old)
                 }
@@ -285,7 +300,7 @@ impl DomeLayer {
         }
         let fit = dome::fit_dome(&points, self.base_per_height, Some(sum))?;
         (fit.base_radius_m <= MAX_BASE_RADIUS_M && fit.height_sigma_m <= MAX_HEIGHT_SIGMA_M)
-            .then(|| Dome::from_fit(&fit))
+            .then(|| Dome::from_fit(&fit, &points))
     }
 
     /// The rocks whose base lies within `reach_m` of the centre of cell `index`, with the
@@ -517,6 +532,7 @@ mod tests {
                     xy_m: [x, y],
                     height_m,
                     sigma_m: 0.02,
+                    ground_z_m: 0.0,
                 },
             );
         }
@@ -552,6 +568,7 @@ mod tests {
             xy_m: [4.85, 5.0],
             height_m: (0.09f32 - 0.15 * 0.15).sqrt(),
             sigma_m: 0.02,
+            ground_z_m: 0.0,
         };
         layer.add_point(geometry.index(cx, cy), point);
         assert_eq!(refit(&mut layer, &geometry), (0, 0));
@@ -574,6 +591,7 @@ mod tests {
                     xy_m: [0.8, 0.1],
                     height_m,
                     sigma_m,
+                    ground_z_m: 0.0,
                 },
             );
         }
@@ -583,6 +601,7 @@ mod tests {
                 xy_m: [0.0, 0.0],
                 height_m: 0.3,
                 sigma_m: 0.02,
+                ground_z_m: 0.0,
             },
         );
         let mut out = Vec::new();

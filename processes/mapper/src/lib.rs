@@ -49,6 +49,7 @@ pub mod config;
 pub mod dirty;
 pub mod dome;
 pub mod dome_layer;
+pub mod foot;
 pub mod geometry;
 pub mod ground;
 pub mod inflation;

@@ -332,6 +332,7 @@ impl FeatureMap {
                         xy_m: [x, y],
                         height_m,
                         sigma_m: layer.floored_sigma_m(vertical_sigma_m),
+                        ground_z_m: point.position_m[2] - height_m,
                     },
                 );
             }
@@ -616,7 +617,7 @@ impl FeatureMap {
         };
         let mut class = BeliefClass::Unknown;
         domes.near(&self.geometry, index, 0.0, |dome, _| {
-            match layer.judge_rock(dome.height_m, dome.height_sigma_m) {
+            match layer.judge_rock(dome.step_height_m(), dome.height_sigma_m) {
                 BeliefClass::Lethal => class = BeliefClass::Lethal,
                 BeliefClass::Uncertain if class != BeliefClass::Lethal => {
                     class = BeliefClass::Uncertain;
@@ -777,7 +778,7 @@ impl FeatureMap {
         );
         let mut worst: Option<(u32, bool)> = None;
         domes.near(&self.geometry, index, costs.radius_m, |dome, gap_m| {
-            let cost = match layer.judge_rock(dome.height_m, dome.height_sigma_m) {
+            let cost = match layer.judge_rock(dome.step_height_m(), dome.height_sigma_m) {
                 BeliefClass::Lethal => costs.at(gap_m.max(0.0)),
                 BeliefClass::Uncertain => {
                     costs.at(gap_m.max(0.0)).map(|(cost, _)| (cost / 2, false))

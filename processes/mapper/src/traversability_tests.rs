@@ -329,6 +329,61 @@ fn a_fitted_dome_covers_the_back_of_a_half_seen_rock() {
     assert!((rock.centre_m[0] - 2.0).abs() < 0.1, "{rock:?}");
 }
 
+/// A rover stereo cloud of ground rising `slope` per metre along x, over `[x0, x1] ×
+/// [y0, y1]` on a 5 cm lattice, with a round rock of `radius_m` at `centre` resting as the
+/// world rests its rocks: on the lowest ground under its footprint, its top `height_m`
+/// above that. Heights are measured above the sloped ground under each point.
+fn rock_resting_on_a_slope(
+    slope: f32,
+    centre: [f32; 2],
+    radius_m: f32,
+    height_m: f32,
+) -> Vec<FeaturePoint> {
+    let base_z_m = slope * (centre[0] - radius_m);
+    let mut cloud = Vec::new();
+    for i in 0..=50 {
+        for j in 0..=50 {
+            let (x, y) = (
+                centre[0] - 1.25 + 0.05 * i as f32,
+                centre[1] - 1.25 + 0.05 * j as f32,
+            );
+            let ground_m = slope * x;
+            let r = (x - centre[0]).hypot(y - centre[1]);
+            let rock_m = if r < radius_m {
+                base_z_m + height_m * (1.0 - (r / radius_m).powi(2)).sqrt()
+            } else {
+                f32::NEG_INFINITY
+            };
+            let z = ground_m.max(rock_m);
+            cloud.push(point(x, y, z, z - ground_m, 0.02));
+        }
+    }
+    cloud
+}
+
+#[test]
+fn a_rock_on_a_slope_is_judged_by_the_step_from_its_downhill_foot() {
+    // On a 10° slope a rock resting on its lowest foot stands lower above the ground at its
+    // middle than the step it makes from below: a 0.23 m rock shows about 0.18 m there, which
+    // the physics still blocks, and a 0.17 m one shows about 0.12 m, which it lets the rover
+    // climb.
+    let slope = 10f32.to_radians().tan();
+    let judged = |height_m: f32| {
+        let mut map = dome_map();
+        for _ in 0..3 {
+            map.insert_cloud_seen_from(
+                Robot::Rover,
+                Some([-1.0, 1.0, 1.0]),
+                &rock_resting_on_a_slope(slope, [1.0, 1.0], 0.3, height_m),
+            );
+            map.update();
+        }
+        blocks(&map, 1.0, 1.0)
+    };
+    assert!(judged(0.23), "a rock too tall from below was left open");
+    assert!(!judged(0.17), "a climbable rock on a slope was shut");
+}
+
 #[test]
 fn the_fit_keeps_the_corridor_and_lets_rover_stereo_clear_a_false_wall() {
     let mut map = dome_map();

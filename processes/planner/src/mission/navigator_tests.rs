@@ -564,3 +564,28 @@ fn the_footprint_sweep_takes_a_nearer_waypoint_when_the_body_would_brush_a_rock(
     );
     assert!(with[0] < without[0], "the sweep kept {with:?}");
 }
+
+#[test]
+fn a_rover_whose_turn_would_swing_a_corner_into_a_rock_backs_off_first() {
+    // The goal lies behind the rover; a rock stands off its left flank, clear of the body as
+    // it stands but inside the circle its corners sweep when it turns on the spot.
+    let geometry = MapGeometry::new(-8.0, -8.0, 0.25, 64, 64).unwrap();
+    let rock = geometry.cell_of([0.05, 0.6]).unwrap();
+    let mut config = NavigatorConfig::default();
+    config.scout.enabled = false;
+    let rover = at([0.0, 0.0]);
+    let decide = |rocks: Vec<CellChange>| {
+        let mut navigator =
+            Navigator::new(geometry, rover.xy_m, [-6.0, 1.0], config.clone()).unwrap();
+        navigator.queue_changes(rocks);
+        let decision = navigator.step(rover, None, 0.0).unwrap();
+        (decision, navigator.counters().turn_back_offs)
+    };
+    let (free, backed) = decide(Vec::new());
+    assert!(!free.reverse && backed == 0, "{free:?}");
+    let (decision, backed) = decide(vec![CellChange::new(rock, CellState::Obstacle, 0)]);
+    assert!(decision.reverse, "turned into the rock: {decision:?}");
+    assert_eq!(backed, 1);
+    // Straight back, the way the body sweeps past nothing.
+    assert!(decision.waypoint_m[0] < -0.5 && decision.waypoint_m[1].abs() < 0.1);
+}

@@ -68,7 +68,7 @@ impl Default for CameraSection {
 
 /// Maps a world-crate validation error to ours, with the key under `section` (the world crate
 /// names keys relative to where it was asked to look).
-pub(crate) fn from_world_error(error: hopnav_world::ConfigError, section: &str) -> ConfigError {
+pub fn from_world_error(error: hopnav_world::ConfigError, section: &str) -> ConfigError {
     let full_key = |key: String| {
         if key.starts_with(section) {
             key

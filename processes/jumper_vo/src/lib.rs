@@ -9,7 +9,6 @@ pub mod eval;
 pub mod frames;
 pub mod output;
 pub mod pipeline;
-pub mod process;
 pub mod rng;
 pub mod scale;
 pub mod simulate;

@@ -2,10 +2,11 @@
 //! sparse stereo matching ([`stereo`]), KLT tracking of world-anchored map points, 2-point
 //! (IMU roll/pitch) or 3-point RANSAC with Gauss–Newton refinement of the reprojection error
 //! ([`motion`]), keyframes and world-frame feature clouds with heights above the local ground
-//! ([`ground`], [`pipeline`]). [`process`] wraps it as the `rover_vo` process.
+//! ([`ground`], [`pipeline`]). `hopnav-rover-vo-node` wraps it as the `rover_vo` process.
 //!
 //! Entry points for the CLI:
-//! - `hopnav run rover_vo`: [`process::RoverVoProcess`]; config check: [`process::rover_vo_section`].
+//! - `hopnav run rover_vo`: `hopnav_rover_vo_node::RoverVoProcess`; config check:
+//!   `hopnav_rover_vo_node::rover_vo_section`.
 //! - `hopnav eval rover-vo`: [`eval::run`] (TUM files, ATE/RPE, drift %, top-view PNG).
 //! - `hopnav bench rover-vo`: [`bench::run`] (p50/p99/max ms per stereo frame).
 //!
@@ -21,6 +22,5 @@ pub mod eval;
 pub mod ground;
 pub mod motion;
 pub mod pipeline;
-pub mod process;
 pub mod simulate;
 pub mod stereo;

@@ -13,8 +13,9 @@ use hopnav_world::camera::PinholeCamera;
 use hopnav_world::raster::{RenderScene, Renderer};
 use nalgebra::{Isometry3, Translation3};
 
-use crate::config::check_world_section;
-use crate::{CameraError, CameraSection, body_from_camera};
+use hopnav_camera::{CameraSection, body_from_camera, check_world_section};
+
+use crate::CameraError;
 
 /// Renders both robots' cameras every frame.
 pub struct CameraProcess {
@@ -77,7 +78,7 @@ impl Scene {
         let world = World::generate(&check_world_section(&config)?)?;
         let scene = RenderScene::new(&world)?;
         let map_config =
-            |error| CameraError::Config(crate::config::from_world_error(error, "camera"));
+            |error| CameraError::Config(hopnav_camera::from_world_error(error, "camera"));
         let mut jumper_renderer = Renderer::with_prefix(
             &section.jumper,
             &section.render,

@@ -11,9 +11,9 @@ use hopnav_ipc::transport::{SlicePublisher, Subscriber};
 use hopnav_world::World;
 use hopnav_world::camera::PinholeCamera;
 use hopnav_world::raster::{RenderScene, Renderer};
-use nalgebra::{Isometry3, Translation3};
+use nalgebra::Isometry3;
 
-use hopnav_camera::{CameraSection, body_from_camera, check_world_section};
+use hopnav_camera::{CameraSection, check_world_section};
 
 use crate::CameraError;
 
@@ -127,11 +127,11 @@ impl Process for CameraProcess {
         let jumper_len = section.jumper.width_px as usize * section.jumper.height_px as usize;
         let rover_len = 2 * section.rover.width_px as usize * section.rover.height_px as usize;
         // The mount is the pair's midpoint; the left camera sits half a baseline to the left.
-        let rover_body_from_mid = body_from_camera(&section.rover_mount);
-        let rover_body_from_left =
-            rover_body_from_mid * Translation3::new(-section.rover_baseline_m / 2.0, 0.0, 0.0);
+        let rover_body_from_left = section
+            .rover_mount
+            .body_from_left_camera(section.rover_baseline_m);
         Ok(Self {
-            jumper_body_from_camera: body_from_camera(&section.jumper_mount),
+            jumper_body_from_camera: section.jumper_mount.body_from_camera(),
             rover_body_from_left,
             rover_baseline_m: section.rover_baseline_m,
             body_states: Subscriber::open(&context.node, &topics::BODY_STATES)?,

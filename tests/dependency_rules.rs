@@ -50,6 +50,11 @@ fn layer_of(name: &str) -> Option<Layer> {
     })
 }
 
+/// The algorithm crates whose data are message types (the mapper's clouds and cells, physics'
+/// resume state in `wire.rs`), so they depend on hopnav-ipc and, as messages and transport
+/// share that crate, link iceoryx2. Every other algorithm crate stays off it.
+const READS_MESSAGES: &[&str] = &["hopnav-mapper", "hopnav-physics"];
+
 /// Whether crate `from_name` (of layer `from`) may depend on `to_name` (of layer `to`), as a
 /// normal or build dependency (tests may use anything).
 fn allowed(from: Layer, from_name: &str, to: Layer, to_name: &str) -> bool {
@@ -63,9 +68,14 @@ fn allowed(from: Layer, from_name: &str, to: Layer, to_name: &str) -> bool {
         // A shared library may read the config (the robot's body does), nothing else of the
         // runtime.
         (Layer::SharedLibrary, to) => to == Layer::SharedLibrary || to_name == "hopnav-config",
-        // An algorithm crate reads shared libraries, messages and config: never another
-        // process's algorithms, a node, the supervisor or the evaluation.
-        (Layer::Algorithm, to) => to == Layer::SharedLibrary || to == Layer::Runtime && !supervisor,
+        // An algorithm crate reads shared libraries and config, and messages only where its
+        // data are message types: never another process's algorithms, a node, the supervisor
+        // or the evaluation.
+        (Layer::Algorithm, to) => {
+            to == Layer::SharedLibrary
+                || to_name == "hopnav-config"
+                || to_name == "hopnav-ipc" && READS_MESSAGES.contains(&from_name)
+        }
         // A node binds its own process's algorithm crate (`hopnav-X-node` -> `hopnav-X`) and
         // nothing of another process: no other algorithm crate, no other node.
         (Layer::Node, Layer::Algorithm) => from_name.strip_suffix("-node") == Some(to_name),
@@ -261,6 +271,13 @@ fn the_rules_reject_what_the_architecture_forbids() {
         "hopnav-world"
     ));
     assert!(allowed(Algorithm, "hopnav-mapper", Runtime, "hopnav-ipc"));
+    assert!(!allowed(Algorithm, "hopnav-planner", Runtime, "hopnav-ipc"));
+    assert!(allowed(
+        Algorithm,
+        "hopnav-planner",
+        Runtime,
+        "hopnav-config"
+    ));
     // A node binds its own algorithms and nothing of another process.
     assert!(allowed(
         Node,

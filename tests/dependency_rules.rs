@@ -1,6 +1,7 @@
 //! The layering of docs/ARCHITECTURE.md, checked from `cargo metadata` so it stays true:
-//! the runtime imports no algorithm, no process crate imports another, and evaluation sits
-//! outside the process graph.
+//! the runtime imports no algorithm; a process is an algorithm crate (no IPC wiring) and a node
+//! crate that binds it to topics; no process's crates import another process's; and the
+//! evaluation sits outside the process graph, reading algorithms, never a node.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -13,8 +14,13 @@ enum Layer {
     Runtime,
     /// Libraries several processes share (terrain, vision geometry, metrics and plots).
     SharedLibrary,
-    /// One crate per process: algorithms in plain modules, wired to topics in `process.rs`.
-    Process,
+    /// A process's algorithms in plain modules, without its wiring to topics
+    /// (`processes/<name>`, `hopnav-<name>`).
+    Algorithm,
+    /// A process's wiring to topics (`processes/<name>/node`, `hopnav-<name>-node`, which binds
+    /// the algorithm crate of the same name), or a process that is wiring only (recorder,
+    /// probe, ipc_bench).
+    Node,
     /// Compares runs with the truth.
     Evaluation,
     /// The `hopnav` binary.
@@ -28,13 +34,26 @@ fn layer_of(name: &str) -> Option<Layer> {
             Layer::SharedLibrary
         }
         "hopnav-physics" | "hopnav-camera" | "hopnav-jumper-vo" | "hopnav-rover-vo"
-        | "hopnav-mapper" | "hopnav-planner" | "hopnav-recorder" | "hopnav-probe"
-        | "hopnav-ipc-bench" => Layer::Process,
+        | "hopnav-mapper" | "hopnav-planner" => Layer::Algorithm,
+        "hopnav-physics-node"
+        | "hopnav-camera-node"
+        | "hopnav-jumper-vo-node"
+        | "hopnav-rover-vo-node"
+        | "hopnav-mapper-node"
+        | "hopnav-planner-node"
+        | "hopnav-recorder"
+        | "hopnav-probe"
+        | "hopnav-ipc-bench" => Layer::Node,
         "hopnav-eval" => Layer::Evaluation,
         "hopnav" => Layer::Cli,
         _ => return None,
     })
 }
+
+/// The algorithm crates whose data are message types (the mapper's clouds and cells, physics'
+/// resume state in `wire.rs`), so they depend on hopnav-ipc and, as messages and transport
+/// share that crate, link iceoryx2. Every other algorithm crate stays off it.
+const READS_MESSAGES: &[&str] = &["hopnav-mapper", "hopnav-physics"];
 
 /// Whether crate `from_name` (of layer `from`) may depend on `to_name` (of layer `to`), as a
 /// normal or build dependency (tests may use anything).
@@ -49,13 +68,32 @@ fn allowed(from: Layer, from_name: &str, to: Layer, to_name: &str) -> bool {
         // A shared library may read the config (the robot's body does), nothing else of the
         // runtime.
         (Layer::SharedLibrary, to) => to == Layer::SharedLibrary || to_name == "hopnav-config",
-        (Layer::Process, to) => to == Layer::SharedLibrary || to == Layer::Runtime && !supervisor,
-        (Layer::Evaluation, to) => to != Layer::Evaluation,
+        // An algorithm crate reads shared libraries and config, and messages only where its
+        // data are message types: never another process's algorithms, a node, the supervisor
+        // or the evaluation.
+        (Layer::Algorithm, to) => {
+            to == Layer::SharedLibrary
+                || to_name == "hopnav-config"
+                || to_name == "hopnav-ipc" && READS_MESSAGES.contains(&from_name)
+        }
+        // A node binds its own process's algorithm crate (`hopnav-X-node` -> `hopnav-X`) and
+        // nothing of another process: no other algorithm crate, no other node.
+        (Layer::Node, Layer::Algorithm) => from_name.strip_suffix("-node") == Some(to_name),
+        (Layer::Node, to) => to == Layer::SharedLibrary || to == Layer::Runtime && !supervisor,
+        // The evaluation reads the runtime's record and the algorithms, never a node's wiring.
+        (Layer::Evaluation, to) => !matches!(to, Layer::Node | Layer::Evaluation),
         (Layer::Cli, _) => true,
     }
 }
 
-/// Every workspace member's hopnav dependencies (not dev-dependencies), from `cargo metadata`.
+/// Whether crate `name` (of layer `layer`) may use iceoryx2 itself rather than through
+/// hopnav-ipc's transport: the runtime, and the IPC benchmark (it measures raw iceoryx2 as the
+/// floor under hopnav's topics).
+fn may_use_iceoryx2_directly(layer: Layer, name: &str) -> bool {
+    layer == Layer::Runtime || name == "hopnav-ipc-bench"
+}
+
+/// Every workspace member's dependencies (not dev-dependencies), from `cargo metadata`.
 fn workspace_dependencies() -> BTreeMap<String, Vec<String>> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let output = Command::new(cargo)
@@ -95,7 +133,6 @@ fn workspace_dependencies() -> BTreeMap<String, Vec<String>> {
             .iter()
             .filter(|dependency| dependency["kind"].as_str() != Some("dev"))
             .filter_map(|dependency| dependency["name"].as_str())
-            .filter(|dependency| dependency.starts_with("hopnav"))
             .map(str::to_owned)
             .collect();
         graph.insert(name, dependencies);
@@ -140,14 +177,39 @@ fn every_dependency_follows_the_layering() {
 }
 
 #[test]
+fn only_the_runtime_uses_iceoryx2_directly() {
+    let mut broken = Vec::new();
+    for (name, dependencies) in workspace_dependencies() {
+        let Some(layer) = layer_of(&name) else {
+            continue;
+        };
+        for dependency in dependencies {
+            if dependency.starts_with("iceoryx2") && !may_use_iceoryx2_directly(layer, &name) {
+                broken.push(format!("{name} ({layer:?}) -> {dependency}"));
+            }
+        }
+    }
+    assert!(
+        broken.is_empty(),
+        "iceoryx2 outside the runtime (use hopnav-ipc's transport in a node): {broken:#?}"
+    );
+}
+
+#[test]
 fn the_rules_reject_what_the_architecture_forbids() {
     use Layer::*;
     // The supervisor imports no algorithm and no evaluation; it reads messages and config.
     assert!(!allowed(
         Runtime,
         "hopnav-supervisor",
-        Process,
+        Algorithm,
         "hopnav-mapper"
+    ));
+    assert!(!allowed(
+        Runtime,
+        "hopnav-supervisor",
+        Node,
+        "hopnav-mapper-node"
     ));
     assert!(!allowed(
         Runtime,
@@ -170,35 +232,94 @@ fn the_rules_reject_what_the_architecture_forbids() {
         "hopnav-supervisor"
     ));
     assert!(!allowed(Runtime, "hopnav-config", Runtime, "hopnav-ipc"));
-    // No process crate imports another, the supervisor or the evaluation.
+    // No algorithm crate imports another process's algorithms, a node, the supervisor or the
+    // evaluation.
     assert!(!allowed(
-        Process,
+        Algorithm,
         "hopnav-mapper",
-        Process,
+        Algorithm,
         "hopnav-planner"
     ));
     assert!(!allowed(
-        Process,
+        Algorithm,
+        "hopnav-mapper",
+        Node,
+        "hopnav-mapper-node"
+    ));
+    assert!(!allowed(
+        Algorithm,
+        "hopnav-mapper",
+        Node,
+        "hopnav-planner-node"
+    ));
+    assert!(!allowed(
+        Algorithm,
         "hopnav-mapper",
         Runtime,
         "hopnav-supervisor"
     ));
     assert!(!allowed(
-        Process,
+        Algorithm,
         "hopnav-mapper",
         Evaluation,
         "hopnav-eval"
     ));
     assert!(allowed(
-        Process,
+        Algorithm,
         "hopnav-mapper",
         SharedLibrary,
         "hopnav-world"
     ));
+    assert!(allowed(Algorithm, "hopnav-mapper", Runtime, "hopnav-ipc"));
+    assert!(!allowed(Algorithm, "hopnav-planner", Runtime, "hopnav-ipc"));
+    assert!(allowed(
+        Algorithm,
+        "hopnav-planner",
+        Runtime,
+        "hopnav-config"
+    ));
+    // A node binds its own algorithms and nothing of another process.
+    assert!(allowed(
+        Node,
+        "hopnav-mapper-node",
+        Algorithm,
+        "hopnav-mapper"
+    ));
+    assert!(!allowed(
+        Node,
+        "hopnav-mapper-node",
+        Algorithm,
+        "hopnav-planner"
+    ));
+    assert!(!allowed(
+        Node,
+        "hopnav-mapper-node",
+        Node,
+        "hopnav-planner-node"
+    ));
+    assert!(!allowed(
+        Node,
+        "hopnav-recorder",
+        Algorithm,
+        "hopnav-mapper"
+    ));
+    assert!(!allowed(
+        Node,
+        "hopnav-mapper-node",
+        Runtime,
+        "hopnav-supervisor"
+    ));
+    assert!(!allowed(
+        Node,
+        "hopnav-mapper-node",
+        Evaluation,
+        "hopnav-eval"
+    ));
+    assert!(allowed(Node, "hopnav-mapper-node", Runtime, "hopnav-ipc"));
     assert!(!allowed(
         SharedLibrary,
         "hopnav-world",
-        Process,
+        Algorithm,
         "hopnav-physics"
     ));
     assert!(!allowed(
@@ -207,27 +328,62 @@ fn the_rules_reject_what_the_architecture_forbids() {
         Runtime,
         "hopnav-ipc"
     ));
-    // The evaluation reads the runtime's record and the algorithms; nothing imports the binary.
+    // The evaluation reads the runtime's record and the algorithms, never a node; nothing
+    // imports the binary.
     assert!(allowed(
         Evaluation,
         "hopnav-eval",
         Runtime,
         "hopnav-supervisor"
     ));
+    assert!(allowed(
+        Evaluation,
+        "hopnav-eval",
+        Algorithm,
+        "hopnav-jumper-vo"
+    ));
+    assert!(!allowed(
+        Evaluation,
+        "hopnav-eval",
+        Node,
+        "hopnav-mapper-node"
+    ));
+    assert!(!allowed(Evaluation, "hopnav-eval", Node, "hopnav-recorder"));
+    // Only the runtime (and the benchmark of raw iceoryx2) touches iceoryx2 itself.
+    assert!(may_use_iceoryx2_directly(Runtime, "hopnav-ipc"));
+    assert!(!may_use_iceoryx2_directly(Evaluation, "hopnav-eval"));
+    assert!(!may_use_iceoryx2_directly(Node, "hopnav-mapper-node"));
+    assert!(!may_use_iceoryx2_directly(Algorithm, "hopnav-mapper"));
     assert!(!allowed(Evaluation, "hopnav-eval", Cli, "hopnav"));
 }
 
+/// Every `.rs` file under `dir`, in subfolders too.
+fn rust_sources(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).expect("readable folder") {
+        let path = entry.expect("entry").path();
+        if path.is_dir() {
+            files.extend(rust_sources(&path));
+        } else if path.extension().is_some_and(|extension| extension == "rs") {
+            files.push(path);
+        }
+    }
+    files
+}
+
 /// The evaluation reads algorithms, never a process's wiring to topics: no `process` module
-/// of any crate appears in its sources.
+/// or node crate of any process appears in its sources.
 #[test]
 fn the_evaluation_uses_no_process_wiring() {
     let source_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("processes/eval/src");
     let mut offenders = Vec::new();
-    for entry in std::fs::read_dir(&source_dir).expect("processes/eval/src") {
-        let path = entry.expect("entry").path();
+    for path in rust_sources(&source_dir) {
         let text = std::fs::read_to_string(&path).expect("readable source");
         for (number, line) in text.lines().enumerate() {
-            if line.contains("::process::") || line.contains("::process;") {
+            if line.contains("::process::")
+                || line.contains("::process;")
+                || line.contains("_node::")
+            {
                 offenders.push(format!("{}:{}: {line}", path.display(), number + 1));
             }
         }

@@ -4,8 +4,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
+use hopnav_eval::jumper_vo::{VoReport, evaluate, plot::write_fig5_png, tum::write_tum};
 use hopnav_jumper_vo::config::{JumperVoConfig, ScaleMethod};
-use hopnav_jumper_vo::eval::{VoReport, evaluate, plot::write_fig5_png, run_hop, tum::write_tum};
+use hopnav_jumper_vo::run::{HopRun, run_hop};
 use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
 
 #[derive(Debug, Subcommand)]
@@ -77,7 +78,7 @@ fn write_outputs(
     out: &std::path::Path,
     method: ScaleMethod,
     hop: &SimulatedHop,
-    run: &hopnav_jumper_vo::eval::HopRun,
+    run: &HopRun,
 ) -> Result<(), String> {
     let name = out.join(format!("{method:?}").to_lowercase());
     let estimate: Vec<_> = hop.t_s.iter().copied().zip(run.poses()).collect();
@@ -208,7 +209,7 @@ fn vo(args: &VoArgs) -> Result<(), String> {
 
 /// Evaluates the live `jumper_vo` estimate of a recorded launch against its ground truth.
 fn vo_dataset(dataset: &std::path::Path, out: &std::path::Path) -> Result<(), String> {
-    let report = hopnav_jumper_vo::eval::dataset::evaluate_dataset(dataset)
+    let report = hopnav_eval::jumper_vo::dataset::evaluate_dataset(dataset)
         .map_err(|e| format!("{}: {e}", dataset.display()))?;
     let (sim3, se3) = (&report.ate_sim3, &report.ate_se3);
     let (times, est, gt) = (&report.times_s, &report.estimate, &report.truth);

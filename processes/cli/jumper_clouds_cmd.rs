@@ -4,9 +4,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
+use hopnav_eval::jumper_vo::cloud_heights::{CloudHeightStats, HEIGHT_CLASS_EDGES_M, HighRule};
 use hopnav_jumper_vo::config::JumperVoConfig;
-use hopnav_jumper_vo::eval::cloud_heights::{CloudHeightStats, HEIGHT_CLASS_EDGES_M, HighRule};
-use hopnav_jumper_vo::eval::run_hop;
+use hopnav_jumper_vo::run::run_hop;
 use hopnav_jumper_vo::simulate::{SimConfig, simulate_hop};
 use hopnav_mapper::config::MapperConfig;
 use hopnav_world::World;

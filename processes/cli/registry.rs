@@ -11,23 +11,23 @@ pub const PROCESSES: &[(&str, Entry)] = &[
     ("probe_source", run_process::<hopnav_probe::ProbeSource>),
     ("probe_sink", run_process::<hopnav_probe::ProbeSink>),
     ("recorder", run_process::<hopnav_recorder::Recorder>),
-    ("camera", run_process::<hopnav_camera::CameraProcess>),
-    ("physics", run_process::<hopnav_physics::PhysicsProcess>),
+    ("camera", run_process::<hopnav_camera_node::CameraProcess>),
+    (
+        "physics",
+        run_process::<hopnav_physics_node::PhysicsProcess>,
+    ),
     (
         "jumper_vo",
-        run_process::<hopnav_jumper_vo::process::JumperVoProcess>,
+        run_process::<hopnav_jumper_vo_node::JumperVoProcess>,
     ),
     (
         "planner",
-        run_process::<hopnav_planner::process::PlannerProcess>,
+        run_process::<hopnav_planner_node::PlannerProcess>,
     ),
-    (
-        "mapper",
-        run_process::<hopnav_mapper::process::MapperProcess>,
-    ),
+    ("mapper", run_process::<hopnav_mapper_node::MapperProcess>),
     (
         "rover_vo",
-        run_process::<hopnav_rover_vo::process::RoverVoProcess>,
+        run_process::<hopnav_rover_vo_node::RoverVoProcess>,
     ),
 ];
 
@@ -43,19 +43,19 @@ pub const SECTIONS: &[(&str, SectionCheck)] = &[
         hopnav_camera::CameraSection::from_config(config).map(|_| ())
     }),
     ("physics", |config| {
-        hopnav_physics::physics_section(config).map(|_| ())
+        hopnav_physics_node::physics_section(config).map(|_| ())
     }),
     ("jumper_vo", |config| {
-        hopnav_jumper_vo::process::jumper_vo_section(config).map(|_| ())
+        hopnav_jumper_vo_node::jumper_vo_section(config).map(|_| ())
     }),
     ("planner", |config| {
-        hopnav_planner::process::planner_section(config).map(|_| ())
+        hopnav_planner_node::planner_section(config).map(|_| ())
     }),
     ("mapper", |config| {
         hopnav_mapper::config::mapper_section(config).map(|_| ())
     }),
     ("rover_vo", |config| {
-        hopnav_rover_vo::process::rover_vo_section(config).map(|_| ())
+        hopnav_rover_vo_node::rover_vo_section(config).map(|_| ())
     }),
 ];
 

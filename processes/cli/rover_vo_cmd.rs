@@ -27,7 +27,7 @@ pub struct RoverVoBenchArgs {
 }
 
 pub fn eval(args: RoverVoEvalArgs) -> ExitCode {
-    let mut options = hopnav_rover_vo::eval::EvalOptions {
+    let mut options = hopnav_eval::rover_vo::EvalOptions {
         out_dir: Some(args.out.clone()),
         ..Default::default()
     };
@@ -37,7 +37,7 @@ pub fn eval(args: RoverVoEvalArgs) -> ExitCode {
         options.traverse.seed = seed;
     }
     eprintln!("rendering and tracking the traverse (about a thousand stereo frames)...");
-    match hopnav_rover_vo::eval::run(&options) {
+    match hopnav_eval::rover_vo::run(&options) {
         Ok(report) => {
             println!("{report}");
             println!("files: {}", args.out.display());

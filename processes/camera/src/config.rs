@@ -1,66 +1,46 @@
 //! The `[camera]` table: both cameras' intrinsics, mounts and rendering options.
 
-use hopnav_config::{ConfigError, HopnavConfig, in_section, parse_section};
+use hopnav_config::{ConfigError, HopnavConfig, parse_section};
+use hopnav_robot::camera::{CameraMount, CameraRig};
 use hopnav_world::camera::CameraConfig;
 use hopnav_world::raster::RenderConfig;
 use serde::{Deserialize, Serialize};
-
-/// Where a camera sits on its robot (body frame: x forward, y left, z up).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MountConfig {
-    /// Optical centre in the body frame, metres (for a stereo pair: midway between the two).
-    pub position_m: [f64; 3],
-    /// Viewing direction about body z: 0 = forward, π = backward, radians.
-    pub yaw_rad: f64,
-    /// Tilt below the body's x-y plane, radians.
-    pub pitch_down_rad: f64,
-}
 
 /// `[camera]`: the jumper's rear mono camera and the rover's stereo pair.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraSection {
-    /// Jumper camera intrinsics (paper: 320×320, FOV 45° → f = 386.3 px, not the paper's
-    /// 521.78 px, which does not match its own FOV).
+    /// Jumper camera intrinsics ([`CameraRig::jumper`]).
     pub jumper: CameraConfig,
-    /// Jumper camera mount: at the rear, facing backward (along body −x).
-    pub jumper_mount: MountConfig,
-    /// Rover stereo intrinsics (both views).
+    /// Jumper camera mount ([`CameraRig::jumper_mount`]).
+    pub jumper_mount: CameraMount,
+    /// Rover stereo intrinsics ([`CameraRig::rover`]).
     pub rover: CameraConfig,
-    /// Rover stereo mount (midpoint of the pair).
-    pub rover_mount: MountConfig,
-    /// Rover stereo baseline along the camera x axis, metres.
+    /// Rover stereo mount, the pair's midpoint ([`CameraRig::rover_mount`]).
+    pub rover_mount: CameraMount,
+    /// Rover stereo baseline, metres ([`CameraRig::rover_baseline_m`]).
     pub rover_baseline_m: f64,
     /// Pixel noise, sky value, level of detail.
     pub render: RenderConfig,
 }
 
+/// The cameras themselves are the robots' ([`CameraRig::default`], the one place their defaults
+/// are written); the rendering options are this table's own.
 impl Default for CameraSection {
     fn default() -> Self {
+        let CameraRig {
+            jumper,
+            jumper_mount,
+            rover,
+            rover_mount,
+            rover_baseline_m,
+        } = CameraRig::default();
         Self {
-            jumper: CameraConfig::default(),
-            // Physics sets the jumper to its launch attitude (body x along the launch
-            // direction, 60° up), so a camera along body −x looks 60° below the horizon,
-            // backward, at launch and tilts up as the body pitches nose-down in flight.
-            jumper_mount: MountConfig {
-                position_m: [-0.12, 0.0, 0.0],
-                yaw_rad: std::f64::consts::PI,
-                pitch_down_rad: 0.0,
-            },
-            rover: CameraConfig {
-                width_px: 320,
-                height_px: 240,
-                hfov_rad: 60_f64.to_radians(),
-                vfov_rad: None,
-                near_m: 0.05,
-            },
-            rover_mount: MountConfig {
-                position_m: [0.3, 0.0, 1.0],
-                yaw_rad: 0.0,
-                pitch_down_rad: 15_f64.to_radians(),
-            },
-            rover_baseline_m: 0.2,
+            jumper,
+            jumper_mount,
+            rover,
+            rover_mount,
+            rover_baseline_m,
             render: RenderConfig::default(),
         }
     }
@@ -68,7 +48,7 @@ impl Default for CameraSection {
 
 /// Maps a world-crate validation error to ours, with the key under `section` (the world crate
 /// names keys relative to where it was asked to look).
-pub(crate) fn from_world_error(error: hopnav_world::ConfigError, section: &str) -> ConfigError {
+pub fn from_world_error(error: hopnav_world::ConfigError, section: &str) -> ConfigError {
     let full_key = |key: String| {
         if key.starts_with(section) {
             key
@@ -97,6 +77,17 @@ impl CameraSection {
         Ok(section)
     }
 
+    /// The cameras without the rendering options.
+    pub fn rig(&self) -> CameraRig {
+        CameraRig {
+            jumper: self.jumper.clone(),
+            jumper_mount: self.jumper_mount,
+            rover: self.rover.clone(),
+            rover_mount: self.rover_mount,
+            rover_baseline_m: self.rover_baseline_m,
+        }
+    }
+
     /// Checks every value.
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.jumper
@@ -108,52 +99,7 @@ impl CameraSection {
         self.render
             .validate("camera.render")
             .map_err(|e| from_world_error(e, "camera"))?;
-        for (name, mount) in [
-            ("jumper_mount", &self.jumper_mount),
-            ("rover_mount", &self.rover_mount),
-        ] {
-            if !mount
-                .position_m
-                .iter()
-                .all(|v| v.is_finite() && v.abs() <= 10.0)
-            {
-                return Err(in_section(
-                    "camera",
-                    &format!("{name}.position_m"),
-                    format!("{:?}", mount.position_m),
-                    "finite, each |v| <= 10",
-                ));
-            }
-            if !(mount.yaw_rad.is_finite() && mount.yaw_rad.abs() <= 2.0 * std::f64::consts::PI) {
-                return Err(in_section(
-                    "camera",
-                    &format!("{name}.yaw_rad"),
-                    mount.yaw_rad,
-                    "[-2π, 2π]",
-                ));
-            }
-            if !(mount.pitch_down_rad.is_finite()
-                && mount.pitch_down_rad.abs() <= std::f64::consts::FRAC_PI_2)
-            {
-                return Err(in_section(
-                    "camera",
-                    &format!("{name}.pitch_down_rad"),
-                    mount.pitch_down_rad,
-                    "[-π/2, π/2]",
-                ));
-            }
-        }
-        if !(self.rover_baseline_m.is_finite()
-            && self.rover_baseline_m > 0.0
-            && self.rover_baseline_m <= 2.0)
-        {
-            return Err(in_section(
-                "camera",
-                "rover_baseline_m",
-                self.rover_baseline_m,
-                "(0, 2]",
-            ));
-        }
+        self.rig().check()?;
         Ok(())
     }
 }

@@ -1,35 +1,11 @@
-//! The `camera` process: each frame it takes the ground-truth poses physics published, renders
-//! the jumper's rear-facing mono camera and the rover's stereo pair with the world crate's
-//! rasterizer, drawing straight into loaned iceoryx2 samples, and publishes them with their
-//! intrinsics and frame index.
+//! The cameras of hopnav, without IPC: the `[camera]` table ([`CameraSection`]: both cameras'
+//! intrinsics and mounts, defined in `hopnav_robot::camera`, and the rendering options). The
+//! `camera` process (`hopnav-camera-node`) renders with them each frame, straight into shared
+//! memory.
 //!
 //! Configuration lives in the `[camera]` table ([`CameraSection`]); the terrain in `[world]`.
 #![warn(missing_docs)]
 
 mod config;
-mod mount;
-mod process;
 
-pub use config::{CameraSection, MountConfig, check_world_section};
-pub use mount::body_from_camera;
-pub use process::CameraProcess;
-
-/// Why the camera process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum CameraError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] hopnav_config::ConfigError),
-    /// The world could not be generated.
-    #[error("world: {0}")]
-    World(#[from] hopnav_world::WorldError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+pub use config::{CameraSection, check_world_section, from_world_error};

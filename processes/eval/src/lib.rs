@@ -9,6 +9,9 @@
 //! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
 //! - [`traversability`]: the ground the map blocks near the track against the rocks';
 //! - [`faulted_mission`]: a chaos launch's mission against the same launch without faults;
+//! - [`jumper_vo`] and [`rover_vo`]: the offline VO evaluations (`hopnav eval vo`,
+//!   `eval rover-vo`, `eval jumper-clouds`): each VO run over a rendered hop or traverse and
+//!   scored against the truth it was rendered from; a recorded launch's jumper estimate too;
 //! - [`figure`]: the mission's Fig.-6 map;
 //! - [`evaluator`]: the [`hopnav_supervisor::MissionEvaluator`] `hopnav launch` passes in.
 //!
@@ -19,8 +22,10 @@ pub mod evaluator;
 pub mod faulted_mission;
 pub mod figure;
 pub mod full_knowledge;
+pub mod jumper_vo;
 pub mod map_accuracy;
 pub mod mission;
+pub mod rover_vo;
 pub mod traversability;
 pub mod vo_accuracy;
 

@@ -233,7 +233,7 @@ impl MissionTruth {
             climbable_height_m: body.max_climbable_height_m,
             inscribed_m: body.inscribed_radius_m(),
             mapper,
-            rover_camera: hopnav_camera::CameraSection::from_config(config)
+            rover_camera: hopnav_robot::camera::CameraRig::from_config(config)
                 .ok()
                 .map(|camera| RoverCamera {
                     body_xy_m: [

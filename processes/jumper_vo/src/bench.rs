@@ -3,8 +3,8 @@
 //! Run with `hopnav bench vo`.
 
 use crate::config::JumperVoConfig;
-use crate::eval::run_hop;
 use crate::pipeline::VoError;
+use crate::run::run_hop;
 use crate::simulate::SimulatedHop;
 
 /// Per-frame timing statistics.

@@ -1,9 +1,10 @@
 //! End-to-end tests on short rendered hops (small terrain so they stay fast in debug).
 
+use hopnav_eval::jumper_vo::evaluate;
 use hopnav_jumper_vo::config::{JumperVoConfig, ScaleMethod};
-use hopnav_jumper_vo::eval::{evaluate, run_hop};
 use hopnav_jumper_vo::output::{FrameInput, VoStatus};
 use hopnav_jumper_vo::pipeline::JumperVo;
+use hopnav_jumper_vo::run::run_hop;
 use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
 use hopnav_vision::image::ImageView;
 

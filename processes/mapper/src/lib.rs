@@ -1,7 +1,8 @@
 //! Mapper: merges both robots' feature clouds into a bounded grid map of obstacles,
 //! inflation and observers, and publishes the changed cells.
 //!
-//! The algorithms are plain modules; [`process`] wires them to iceoryx2.
+//! The algorithms are plain modules; the `mapper` process (`hopnav-mapper-node`) wires them
+//! to iceoryx2.
 //!
 //! - [`geometry`]: the fixed grid of the mission area (by default the `[world.terrain]` square).
 //! - [`cell`]: fixed-size statistics per cell (counts per robot, observers, measured heights,
@@ -55,7 +56,6 @@ pub mod ground;
 pub mod inflation;
 pub mod map;
 pub mod oracle_prior;
-pub mod process;
 pub mod rays;
 pub mod snapshot;
 pub mod snapshot_writer;

@@ -884,7 +884,7 @@ fn vertical_sigma_m(camera_m: Option<[f64; 3]>, point: &FeaturePoint) -> f64 {
 }
 
 /// Index of `robot` in [`MapCounters::last_cloud_frame`].
-pub(crate) fn cloud_slot(robot: Robot) -> usize {
+pub fn cloud_slot(robot: Robot) -> usize {
     match robot {
         Robot::Jumper => 0,
         Robot::Rover => 1,

@@ -1,7 +1,7 @@
 //! # hopnav-physics
 //!
-//! The physics of the hopnav simulation, as plain modules without IPC (the `physics` process
-//! wraps them):
+//! The physics of the hopnav simulation, as plain modules without IPC (the `physics` process,
+//! `hopnav-physics-node`, wraps them):
 //!
 //! - [`PhysicsConfig`]: serde configuration (paper Table 1 defaults) with `validate()`;
 //! - [`colliders`]: terrain heightfield and rock convex hulls from a [`hopnav_world::World`];
@@ -33,7 +33,6 @@ pub mod hop_planner;
 pub mod jumper;
 pub mod math;
 pub mod noise;
-pub mod process;
 pub mod rover;
 pub mod sensors;
 pub mod sim;
@@ -45,5 +44,4 @@ pub use frame::{
     AltimeterSample, BlockReason, BodyState, DriveCommand, FrameInputs, FrameOutputs, HopRecord,
     HopRequest, HopState, ImuSample, JumperStatus, RoverMode, RoverStatus,
 };
-pub use process::{PhysicsProcess, PhysicsProcessError, physics_section};
 pub use sim::{PhysicsSim, ResumeError, SimSnapshot};

@@ -1,8 +1,8 @@
 //! Grid path planning for the hopnav rover.
 //!
-//! The planner process replans whenever the mapper publishes changed cells or the rover
-//! moves. This crate holds the algorithms only (no IPC), so tests and benchmarks call them
-//! directly:
+//! The planner process (`hopnav-planner-node`) replans whenever the mapper publishes changed
+//! cells or the rover moves. This crate holds the algorithms only (no IPC), so tests and
+//! benchmarks call them directly:
 //!
 //! - [`grid`]: the occupancy grid (free / obstacle / unknown, plus extra inflation cost).
 //! - [`cost`]: integer move costs (1000 straight, 1414 diagonal, no corner cutting) and the
@@ -45,7 +45,6 @@ pub mod grid;
 pub mod mission;
 pub mod movingai;
 pub mod plan;
-pub mod process;
 pub mod queue;
 pub mod random_map;
 pub mod rng;

@@ -1,5 +1,6 @@
-//! The rover's body, defined once: the climb limit and the footprint that physics' collision
-//! rule, the mapper, the planner and the evaluation all read.
+//! The robots' bodies, defined once: the rover's climb limit and footprint that physics'
+//! collision rule, the mapper, the planner and the evaluation all read, and where both robots'
+//! cameras sit ([`camera`]) for the camera process, the offline VO traverse and the evaluation.
 //!
 //! Its keys live in `[physics.rover]` (physics simulates the body); [`RoverBody::from_config`]
 //! reads them there for any other crate, with the defaults of [`RoverBody::default`], the
@@ -12,6 +13,8 @@
 //! assert!(body.inscribed_radius_m() < body.circumscribed_radius_m());
 //! ```
 #![warn(missing_docs)]
+
+pub mod camera;
 
 use hopnav_config::{ConfigError, HopnavConfig};
 use serde::{Deserialize, Serialize};

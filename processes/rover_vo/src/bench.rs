@@ -9,7 +9,7 @@
 //! ```
 
 use crate::config::RoverVoConfig;
-use crate::eval::{EvalError, quantile, run_traverse};
+use crate::run::{RunError, quantile, run_traverse};
 use crate::simulate::{TraverseConfig, simulate_traverse};
 
 /// What to benchmark.
@@ -99,7 +99,7 @@ impl std::fmt::Display for BenchReport {
 }
 
 /// Renders the traverse once, runs the VO `repeats` times over it and reports frame times.
-pub fn run(options: &BenchOptions) -> Result<BenchReport, EvalError> {
+pub fn run(options: &BenchOptions) -> Result<BenchReport, RunError> {
     let sim = simulate_traverse(&options.traverse)?;
     let mut all = Vec::new();
     let mut keyframes = Vec::new();

@@ -2,25 +2,21 @@
 //! sparse stereo matching ([`stereo`]), KLT tracking of world-anchored map points, 2-point
 //! (IMU roll/pitch) or 3-point RANSAC with Gauss–Newton refinement of the reprojection error
 //! ([`motion`]), keyframes and world-frame feature clouds with heights above the local ground
-//! ([`ground`], [`pipeline`]). [`process`] wraps it as the `rover_vo` process.
+//! ([`ground`], [`pipeline`]). `hopnav-rover-vo-node` wraps it as the `rover_vo` process.
 //!
 //! Entry points for the CLI:
-//! - `hopnav run rover_vo`: [`process::RoverVoProcess`]; config check: [`process::rover_vo_section`].
-//! - `hopnav eval rover-vo`: [`eval::run`] (TUM files, ATE/RPE, drift %, top-view PNG).
+//! - `hopnav run rover_vo`: `hopnav_rover_vo_node::RoverVoProcess`; config check:
+//!   `hopnav_rover_vo_node::rover_vo_section`.
+//! - `hopnav eval rover-vo`: `hopnav_eval::rover_vo::run` (TUM files, ATE/RPE, drift %,
+//!   top-view PNG), over [`run::run_traverse`].
 //! - `hopnav bench rover-vo`: [`bench::run`] (p50/p99/max ms per stereo frame).
-//!
-//! ```no_run
-//! let report = hopnav_rover_vo::eval::run(&hopnav_rover_vo::eval::EvalOptions::default()).unwrap();
-//! assert!(report.drift_percent < 1.0);
-//! ```
 #![warn(missing_docs)]
 
 pub mod bench;
 pub mod config;
-pub mod eval;
 pub mod ground;
 pub mod motion;
 pub mod pipeline;
-pub mod process;
+pub mod run;
 pub mod simulate;
 pub mod stereo;

@@ -16,11 +16,12 @@
 
 use crate::motion::Intrinsics;
 use crate::pipeline::StereoRig;
+use hopnav_robot::camera::{CameraMount, CameraRig};
 use hopnav_vision::rng::XorShiftRng;
-use hopnav_world::camera::{CameraConfig, look_at};
+use hopnav_world::camera::CameraConfig;
 use hopnav_world::raster::{RenderConfig, RenderScene, Renderer};
 use hopnav_world::{World, WorldConfig};
-use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
 /// Error of [`simulate_traverse`].
 #[derive(Debug, thiserror::Error)]
@@ -61,10 +62,8 @@ pub struct TraverseConfig {
     pub body_height_m: f64,
     /// Stereo intrinsics (both views).
     pub camera: CameraConfig,
-    /// Midpoint of the stereo pair in the body frame, metres.
-    pub mount_position_m: [f64; 3],
-    /// Camera tilt below the body's x-y plane, radians.
-    pub mount_pitch_down_rad: f64,
+    /// Stereo mount (midpoint of the pair) in the body frame.
+    pub mount: CameraMount,
     /// Baseline, metres.
     pub baseline_m: f64,
     /// Renderer options.
@@ -83,6 +82,7 @@ pub struct TraverseConfig {
 
 impl Default for TraverseConfig {
     fn default() -> Self {
+        let rig = CameraRig::default();
         Self {
             world: WorldConfig::default(),
             // 40 m east, a 90° turn on the spot, 16 m north: 56 m.
@@ -91,16 +91,10 @@ impl Default for TraverseConfig {
             yaw_rate_radps: 0.5,
             fps: 10.0,
             body_height_m: 0.42,
-            camera: CameraConfig {
-                width_px: 320,
-                height_px: 240,
-                hfov_rad: 60f64.to_radians(),
-                vfov_rad: None,
-                near_m: 0.05,
-            },
-            mount_position_m: [0.3, 0.0, 1.0],
-            mount_pitch_down_rad: 15f64.to_radians(),
-            baseline_m: 0.2,
+            // The rover's stereo pair as the camera process renders it.
+            camera: rig.rover,
+            mount: rig.rover_mount,
+            baseline_m: rig.rover_baseline_m,
             render: RenderConfig::default(),
             imu_noise_rad: 0.002,
             imu_yaw_drift_radps: 1e-4,
@@ -143,18 +137,6 @@ impl SimulatedTraverse {
             .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
             .sum()
     }
-}
-
-/// `body_from_camera` of the **left** camera: the pair's midpoint at `position_m`, looking along
-/// body x tilted `pitch_down_rad` down, the left camera `baseline/2` along camera −x.
-pub fn left_body_from_camera(
-    position_m: [f64; 3],
-    pitch_down_rad: f64,
-    baseline_m: f64,
-) -> Isometry3<f64> {
-    let eye = Point3::from(Vector3::from(position_m));
-    let view = Vector3::new(pitch_down_rad.cos(), 0.0, -pitch_down_rad.sin());
-    look_at(&eye, &(eye + view), &Vector3::z()) * Translation3::new(-0.5 * baseline_m, 0.0, 0.0)
 }
 
 /// Body pose on the terrain at `(x, y)` with heading `yaw_rad`.
@@ -235,11 +217,7 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
             cy_px: wc.cy_px,
         },
         baseline_m: cfg.baseline_m,
-        body_from_camera: left_body_from_camera(
-            cfg.mount_position_m,
-            cfg.mount_pitch_down_rad,
-            cfg.baseline_m,
-        ),
+        body_from_camera: cfg.mount.body_from_left_camera(cfg.baseline_m),
     };
     let (w, h) = (wc.width_px as usize, wc.height_px as usize);
     let mut samples = path_samples(cfg);

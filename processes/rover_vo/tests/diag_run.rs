@@ -1,6 +1,6 @@
 //! Diagnostic (ignored): prints the error along the default traverse.
 use hopnav_rover_vo::config::RoverVoConfig;
-use hopnav_rover_vo::eval::run_traverse;
+use hopnav_rover_vo::run::run_traverse;
 use hopnav_rover_vo::simulate::{TraverseConfig, simulate_traverse};
 
 #[test]

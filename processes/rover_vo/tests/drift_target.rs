@@ -1,7 +1,7 @@
 //! Issue #5 targets on the default 56 m traverse (default world): drift ≤ 1 % of the distance,
 //! ground points near zero height, rock tops positive. Renders ~1150 stereo pairs: run with
 //! `cargo test --release -p hopnav-rover-vo --test drift_target -- --ignored`.
-use hopnav_rover_vo::eval::{EvalOptions, run};
+use hopnav_eval::rover_vo::{EvalOptions, run};
 
 #[test]
 #[ignore]

@@ -1,6 +1,6 @@
 //! Stereo disparities on a rendered pair against the renderer's depth buffer: unbiased and
 //! sub-pixel.
-use hopnav_rover_vo::simulate::{TraverseConfig, left_body_from_camera};
+use hopnav_rover_vo::simulate::TraverseConfig;
 use hopnav_rover_vo::stereo::{StereoMatcher, StereoParams};
 use hopnav_vision::image::ImageView;
 use hopnav_world::World;
@@ -20,18 +20,14 @@ fn stereo_disparity_matches_the_zbuffer() {
         Translation3::new(-10.0, -16.0, world.ground_height_at(-10.0, -16.0) + 0.42),
         UnitQuaternion::identity(),
     );
-    let bfc = left_body_from_camera(
-        cfg.mount_position_m,
-        cfg.mount_pitch_down_rad,
-        cfg.baseline_m,
-    );
+    let bfc = cfg.mount.body_from_left_camera(cfg.baseline_m);
     let mut left = vec![0u8; w * h];
     let mut right = vec![0u8; w * h];
     r.render(&scene, &(body * bfc), 1, &mut left, w).unwrap();
     let zbuf: Vec<f32> = r.inverse_depth().to_vec();
     r.render(
         &scene,
-        &hopnav_world::camera::stereo_right(&(body * bfc), 0.2),
+        &hopnav_world::camera::stereo_right(&(body * bfc), cfg.baseline_m),
         2,
         &mut right,
         w,

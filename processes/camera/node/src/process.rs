@@ -11,10 +11,11 @@ use hopnav_ipc::transport::{SlicePublisher, Subscriber};
 use hopnav_world::World;
 use hopnav_world::camera::PinholeCamera;
 use hopnav_world::raster::{RenderScene, Renderer};
-use nalgebra::{Isometry3, Translation3};
+use nalgebra::Isometry3;
 
-use crate::config::check_world_section;
-use crate::{CameraError, CameraSection, body_from_camera};
+use hopnav_camera::{CameraSection, check_world_section};
+
+use crate::CameraError;
 
 /// Renders both robots' cameras every frame.
 pub struct CameraProcess {
@@ -77,7 +78,7 @@ impl Scene {
         let world = World::generate(&check_world_section(&config)?)?;
         let scene = RenderScene::new(&world)?;
         let map_config =
-            |error| CameraError::Config(crate::config::from_world_error(error, "camera"));
+            |error| CameraError::Config(hopnav_camera::from_world_error(error, "camera"));
         let mut jumper_renderer = Renderer::with_prefix(
             &section.jumper,
             &section.render,
@@ -126,11 +127,11 @@ impl Process for CameraProcess {
         let jumper_len = section.jumper.width_px as usize * section.jumper.height_px as usize;
         let rover_len = 2 * section.rover.width_px as usize * section.rover.height_px as usize;
         // The mount is the pair's midpoint; the left camera sits half a baseline to the left.
-        let rover_body_from_mid = body_from_camera(&section.rover_mount);
-        let rover_body_from_left =
-            rover_body_from_mid * Translation3::new(-section.rover_baseline_m / 2.0, 0.0, 0.0);
+        let rover_body_from_left = section
+            .rover_mount
+            .body_from_left_camera(section.rover_baseline_m);
         Ok(Self {
-            jumper_body_from_camera: body_from_camera(&section.jumper_mount),
+            jumper_body_from_camera: section.jumper_mount.body_from_camera(),
             rover_body_from_left,
             rover_baseline_m: section.rover_baseline_m,
             body_states: Subscriber::open(&context.node, &topics::BODY_STATES)?,

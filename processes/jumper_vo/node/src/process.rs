@@ -17,9 +17,9 @@ use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::image::ImageView;
 use nalgebra::{Isometry3, Translation3, Vector3};
 
-use crate::config::JumperVoConfig;
-use crate::output::FrameInput;
-use crate::pipeline::JumperVo;
+use hopnav_jumper_vo::config::JumperVoConfig;
+use hopnav_jumper_vo::output::FrameInput;
+use hopnav_jumper_vo::pipeline::JumperVo;
 
 /// Why the jumper VO process failed.
 #[derive(Debug, thiserror::Error)]

@@ -11,7 +11,7 @@ use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::process_loop::{Process, ProcessContext, ProcessIdentity};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
-use hopnav_mapper::process::{MapperProcess, SNAPSHOT_FILE};
+use hopnav_mapper_node::{MapperProcess, SNAPSHOT_FILE};
 
 fn tick(frame_index: u64) -> FrameTick {
     FrameTick {

@@ -11,9 +11,9 @@
 use hopnav_world::World;
 use nalgebra::{Isometry3, Point3};
 
-use super::HopRun;
 use super::truth_surface::{SurfaceHit, TruthSurface};
-use crate::simulate::SimulatedHop;
+use hopnav_jumper_vo::run::HopRun;
+use hopnav_jumper_vo::simulate::SimulatedHop;
 
 /// The mapper's test for a jumper point (defaults: `config/default.toml`'s `[mapper]`). Its
 /// height sigma is the depth sigma times the vertical part of the ray from the camera the
@@ -132,7 +132,7 @@ impl CloudHeightStats {
         &mut self,
         surface: &TruthSurface<'_>,
         (true_camera, estimated_camera_from_world): (&Isometry3<f64>, &Isometry3<f64>),
-        point: &crate::cloud::WorldPoint,
+        point: &hopnav_jumper_vo::cloud::WorldPoint,
         height_sigma_m: f64,
         rule: &HighRule,
     ) {
@@ -189,9 +189,9 @@ impl CloudHeightStats {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cloud::WorldPoint;
-    use crate::eval::truth_surface::tests::flat_world_with_a_rock;
-    use crate::output::{VoOutput, VoStatus};
+    use crate::jumper_vo::truth_surface::tests::flat_world_with_a_rock;
+    use hopnav_jumper_vo::cloud::WorldPoint;
+    use hopnav_jumper_vo::output::{VoOutput, VoStatus};
     use nalgebra::Vector3;
 
     /// The VO's placement error of the cloud camera along x, metres (wider than the rock).
@@ -203,12 +203,12 @@ mod tests {
     fn stats_of(true_points: Vec<WorldPoint>) -> CloudHeightStats {
         let world = flat_world_with_a_rock();
         let keyframe = |x_m: f64| Isometry3::translation(x_m, 0.0, 10.0);
-        let hop = crate::simulate::SimulatedHop {
+        let hop = hopnav_jumper_vo::simulate::SimulatedHop {
             width_px: 0,
             height_px: 0,
             camera: hopnav_vision::camera::PinholeCamera::new(320, 320, 300.0, 300.0, 160.0, 160.0)
                 .unwrap(),
-            hop: crate::trajectory::HopTrajectory::table1(),
+            hop: hopnav_jumper_vo::trajectory::HopTrajectory::table1(),
             body_from_camera: Isometry3::identity(),
             t_s: vec![0.0, 0.1],
             images: Vec::new(),

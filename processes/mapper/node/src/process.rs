@@ -17,11 +17,11 @@ use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentit
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 
-use crate::config::{MapperConfig, grid_geometry, mapper_section};
-use crate::map::{CellState, FeatureMap, cloud_slot};
-use crate::oracle_prior::{OraclePriorError, perfect_scout_report};
-use crate::snapshot;
-use crate::snapshot_writer::SnapshotWriter;
+use hopnav_mapper::config::{MapperConfig, grid_geometry, mapper_section};
+use hopnav_mapper::map::{CellState, FeatureMap, cloud_slot};
+use hopnav_mapper::oracle_prior::{OraclePriorError, perfect_scout_report};
+use hopnav_mapper::snapshot;
+use hopnav_mapper::snapshot_writer::SnapshotWriter;
 
 /// File name of the map snapshot, in the launch's run folder.
 pub const SNAPSHOT_FILE: &str = "mapper_snapshot.bin";

@@ -11,7 +11,8 @@ use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::process_loop::{Process, ProcessContext, ProcessIdentity};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
-use hopnav_physics::{FrameInputs, PhysicsProcess, PhysicsSim, physics_section};
+use hopnav_physics::{FrameInputs, PhysicsSim};
+use hopnav_physics_node::{PhysicsProcess, physics_section};
 use hopnav_world::{World, WorldConfig};
 
 const PERIOD_NS: u64 = 100_000_000;

@@ -1,7 +1,7 @@
 //! A PNG like the paper's Fig. 5: x, y, z and pitch against time (truth vs estimate) and the
 //! roll/yaw errors, one panel each, drawn with `hopnav_metrics::plot::draw`.
 
-use crate::frames::euler_from_rotation;
+use hopnav_jumper_vo::frames::euler_from_rotation;
 use hopnav_metrics::plot::{LinePlot, Scale, Series, draw};
 use nalgebra::Isometry3;
 use plotters::prelude::*;

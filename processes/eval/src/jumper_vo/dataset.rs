@@ -3,7 +3,7 @@
 //! for `hopnav eval vo --dataset` and for a launch report's VO summary.
 //!
 //! ```no_run
-//! use hopnav_jumper_vo::eval::dataset::evaluate_dataset;
+//! use hopnav_eval::jumper_vo::dataset::evaluate_dataset;
 //! let report = evaluate_dataset(std::path::Path::new("/tmp/d")).unwrap();
 //! println!("ATE Sim(3) {:.3} m over {} frames", report.ate_sim3.rmse_m, report.frames());
 //! ```

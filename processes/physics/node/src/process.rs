@@ -9,9 +9,9 @@ use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
 use hopnav_world::World;
 
-use crate::frame::{DriveCommand, FrameInputs, HopRequest};
-use crate::wire::{self, body_state};
-use crate::{PhysicsConfig, PhysicsError, PhysicsSim};
+use hopnav_physics::frame::{DriveCommand, FrameInputs, HopRequest};
+use hopnav_physics::wire::{self, body_state};
+use hopnav_physics::{PhysicsConfig, PhysicsError, PhysicsSim};
 
 /// Why the physics process failed.
 #[derive(Debug, thiserror::Error)]
@@ -64,7 +64,7 @@ pub fn physics_section(config: &HopnavConfig) -> Result<PhysicsConfig, ConfigErr
         physics.jumper.initial_hop = false;
     }
     physics.validate().map_err(|error| match error {
-        crate::ConfigError::OutOfRange {
+        hopnav_physics::ConfigError::OutOfRange {
             key, value, range, ..
         } => ConfigError::OutOfRange {
             key,
@@ -110,7 +110,7 @@ impl PhysicsProcess {
     /// every hop with `physics.jumper.oracle_launch_position`).
     fn announce_hop(
         &mut self,
-        outputs: &crate::FrameOutputs,
+        outputs: &hopnav_physics::FrameOutputs,
         stamp: SampleStamp,
     ) -> Result<(), PhysicsProcessError> {
         let status = &outputs.jumper_status;

@@ -14,8 +14,8 @@ use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber};
 
-use crate::grid::{Cell, CellChange, CellState};
-use crate::mission::{
+use hopnav_planner::grid::{Cell, CellChange, CellState};
+use hopnav_planner::mission::{
     Decision, MapChange, MapGeometry, MissionStatus, NavigationError, Navigator, NavigatorConfig,
     RoverPose,
 };

@@ -23,9 +23,9 @@ use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscrib
 use hopnav_vision::image::ImageView;
 use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 
-use crate::config::RoverVoConfig;
-use crate::motion::{Intrinsics, Tilt};
-use crate::pipeline::{RoverVo, StereoFrame, StereoRig, start_pose};
+use hopnav_rover_vo::config::RoverVoConfig;
+use hopnav_rover_vo::motion::{Intrinsics, Tilt};
+use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, start_pose};
 
 /// Why the rover VO process failed.
 #[derive(Debug, thiserror::Error)]

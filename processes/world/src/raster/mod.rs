@@ -73,7 +73,8 @@ impl RenderConfig {
     /// Checks the values; errors name `prefix.field`.
     pub fn validate(&self, prefix: &str) -> Result<(), ConfigError> {
         Interval::closed(0.0, 64.0).check(prefix, "noise_sigma_dn", self.noise_sigma_dn)?;
-        Interval::closed(0.0, 16.0).check(prefix, "lod_error_px", self.lod_error_px)
+        Interval::closed(0.0, 16.0).check(prefix, "lod_error_px", self.lod_error_px)?;
+        Ok(())
     }
 }
 

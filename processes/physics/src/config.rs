@@ -157,9 +157,11 @@ impl Keys {
             bound_keys: bounds.iter().map(|b| self.key(b)).collect(),
         }
     }
-    fn xy(&self, field: &str, v: [f64; 2]) -> Result<(), ConfigError> {
-        self.real(&format!("{field}[0]"), v[0], Interval::closed(-1e4, 1e4))?;
-        self.real(&format!("{field}[1]"), v[1], Interval::closed(-1e4, 1e4))
+    /// Checks a body's `start_xy_m` and `start_yaw_rad`.
+    fn start_pose(&self, xy: [f64; 2], yaw_rad: f64) -> Result<(), ConfigError> {
+        self.real("start_xy_m[0]", xy[0], Interval::closed(-1e4, 1e4))?;
+        self.real("start_xy_m[1]", xy[1], Interval::closed(-1e4, 1e4))?;
+        self.real("start_yaw_rad", yaw_rad, Interval::closed(-TAU, TAU))
     }
 }
 

@@ -3,7 +3,7 @@
 use hopnav_config::range::Interval;
 use serde::{Deserialize, Serialize};
 
-use super::{HALF_PI, Keys, TAU};
+use super::{HALF_PI, Keys};
 use crate::error::ConfigError;
 
 /// The jumping robot: a small cube launched ballistically (paper Table 1 defaults).
@@ -93,12 +93,7 @@ impl Default for JumperConfig {
 impl JumperConfig {
     /// Checks the values under `keys`.
     pub(crate) fn validate(&self, k: &Keys) -> Result<(), ConfigError> {
-        k.xy("start_xy_m", self.start_xy_m)?;
-        k.real(
-            "start_yaw_rad",
-            self.start_yaw_rad,
-            Interval::closed(-TAU, TAU),
-        )?;
+        k.start_pose(self.start_xy_m, self.start_yaw_rad)?;
         k.real(
             "max_launch_speed_mps",
             self.max_launch_speed_mps,

@@ -3,7 +3,7 @@
 use hopnav_config::range::Interval;
 use serde::{Deserialize, Serialize};
 
-use super::{HALF_PI, Keys, PI, TAU};
+use super::{HALF_PI, Keys, PI};
 use crate::error::ConfigError;
 
 /// The rover: rigid chassis on four independently driven and steered wheels.
@@ -99,12 +99,7 @@ impl RoverConfig {
 
     /// Checks the values under `keys`.
     pub(crate) fn validate(&self, k: &Keys) -> Result<(), ConfigError> {
-        k.xy("start_xy_m", self.start_xy_m)?;
-        k.real(
-            "start_yaw_rad",
-            self.start_yaw_rad,
-            Interval::closed(-TAU, TAU),
-        )?;
+        k.start_pose(self.start_xy_m, self.start_yaw_rad)?;
         k.real("wheelbase_m", self.wheelbase_m, Interval::closed(0.1, 10.0))?;
         k.real("track_m", self.track_m, Interval::closed(0.1, 10.0))?;
         k.real(

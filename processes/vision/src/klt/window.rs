@@ -49,6 +49,32 @@ fn bilinear_window(p: Point2<f32>, r: usize) -> ((isize, isize), (f32, f32, f32,
 
 /// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]):
 /// the reference of [`sample_window_strided`].
+/// The four bilinear weights in every lane.
+#[inline]
+fn lane_weights((w00, w01, w10, w11): (f32, f32, f32, f32)) -> (F4, F4, F4, F4) {
+    (
+        F4::splat(w00),
+        F4::splat(w01),
+        F4::splat(w10),
+        F4::splat(w11),
+    )
+}
+
+/// Row `k` of the window at `origin` and the row below it, `width` pixels each from the
+/// window's left edge.
+#[inline]
+fn source_rows(
+    plane: &PaddedPlane,
+    (x0, y0): (isize, isize),
+    k: usize,
+    width: usize,
+) -> (&[f32], &[f32]) {
+    let data = plane.data();
+    let i0 = plane.index(x0, y0 + k as isize);
+    let below = i0 + plane.stride();
+    (&data[i0..i0 + width], &data[below..below + width])
+}
+
 #[cfg(test)]
 pub(super) fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32]) {
     sample_window_strided(plane, p, r, 2 * r + 1, out);
@@ -65,13 +91,9 @@ pub(super) fn sample_window_strided(
     out: &mut [f32],
 ) {
     let n = 2 * r + 1;
-    let ((x0, y0), (w00, w01, w10, w11)) = bilinear_window(p, r);
-    let plane_stride = plane.stride();
-    let data = plane.data();
+    let (origin, (w00, w01, w10, w11)) = bilinear_window(p, r);
     for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + n + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + n + 1];
+        let (row0, row1) = source_rows(plane, origin, k, n + 1);
         let (o_row, o_pad) = o_row.split_at_mut(n);
         for ((((o, &p00), &p01), &p10), &p11) in o_row
             .iter_mut()
@@ -100,22 +122,13 @@ pub(super) fn sample_window_lanes(
 ) {
     let n = 2 * r + 1;
     let cols = n.next_multiple_of(LANES);
-    let ((x0, y0), (w00, w01, w10, w11)) = bilinear_window(p, r);
-    let (w00, w01, w10, w11) = (
-        F4::splat(w00),
-        F4::splat(w01),
-        F4::splat(w10),
-        F4::splat(w11),
-    );
-    let plane_stride = plane.stride();
-    let data = plane.data();
+    let (origin, weights) = bilinear_window(p, r);
+    let (w00, w01, w10, w11) = lane_weights(weights);
     for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
         // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and a row below the
         // window's last, so the `cols + 1 ≤ n + LANES` elements read from the window's left
         // edge stay inside `data` (at worst they run into the next row's left border).
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + cols + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + cols + 1];
+        let (row0, row1) = source_rows(plane, origin, k, cols + 1);
         for c in (0..cols).step_by(LANES) {
             let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
                 + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
@@ -143,15 +156,8 @@ pub(super) fn sampled_mismatch(
     gy: &[f32],
 ) -> (f32, f32) {
     let n = 2 * r + 1;
-    let ((x0, y0), (w00, w01, w10, w11)) = bilinear_window(p, r);
-    let plane_stride = plane.stride();
-    let data = plane.data();
-    let (w00, w01, w10, w11) = (
-        F4::splat(w00),
-        F4::splat(w01),
-        F4::splat(w10),
-        F4::splat(w11),
-    );
+    let (origin, weights) = bilinear_window(p, r);
+    let (w00, w01, w10, w11) = lane_weights(weights);
     let (mut sx, mut sy) = (F4::zero(), F4::zero());
     for (k, ((t_row, x_row), y_row)) in template
         .chunks_exact(stride)
@@ -164,9 +170,7 @@ pub(super) fn sampled_mismatch(
         // below the window, so reading `stride + 1 ≤ n + LANES` elements from the window's
         // left edge stays inside `data` (at worst it runs into the next row's left border,
         // whose values the zero padding of the gradients cancels).
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + stride + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + stride + 1];
+        let (row0, row1) = source_rows(plane, origin, k, stride + 1);
         for c in (0..stride).step_by(LANES) {
             let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
                 + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));

@@ -410,32 +410,7 @@ impl TwoViewEstimator {
         plane_normal_prior_cam1: Option<&UnitVector3<f64>>,
     ) -> Result<TwoViewEstimate, TwoViewError> {
         let cfg = self.config;
-        if !(cfg.focal_px.is_finite() && cfg.focal_px > 0.0) {
-            return Err(TwoViewError::BadConfig("focal_px must be finite and > 0"));
-        }
-        if !(cfg.sigma_px.is_finite() && cfg.sigma_px > 0.0) {
-            return Err(TwoViewError::BadConfig("sigma_px must be finite and > 0"));
-        }
-        if x1.len() != x2.len() {
-            return Err(TwoViewError::LengthMismatch {
-                x1: x1.len(),
-                x2: x2.len(),
-            });
-        }
-        let needed = cfg.min_inliers.max(8);
-        if x1.len() < needed {
-            return Err(TwoViewError::TooFewPoints {
-                got: x1.len(),
-                needed,
-            });
-        }
-        if x1
-            .iter()
-            .chain(x2)
-            .any(|p| !(p.x.is_finite() && p.y.is_finite()))
-        {
-            return Err(TwoViewError::BadConfig("correspondences must be finite"));
-        }
+        self.check_input(x1, x2)?;
         self.inliers.clear();
         let cauchy_scale = 2f64.sqrt() * cfg.sigma_px / cfg.focal_px;
         let e_fit = self.essential_ransac.run(&EssentialProblem {
@@ -495,48 +470,108 @@ impl TwoViewEstimator {
         }
         let use_h = choice == ModelChoice::Homography || e_fit.is_err();
         if use_h && let Ok(h) = &h_fit {
-            let h_inl = self.homography_ransac.inliers();
-            let decomposition = decompose_homography(&h.model.h, x1, x2, h_inl)
-                .map_err(|_| TwoViewError::PoseRecovery)?;
-            let candidate = match (&decomposition, plane_normal_prior_cam1) {
-                (HomographyDecomposition::Planar { .. }, Some(prior)) => {
-                    decomposition.select_by_normal(prior)
-                }
-                _ => decomposition.candidates().first().copied(),
-            }
-            .ok_or(TwoViewError::PoseRecovery)?;
-            let t_over_d = candidate.cam2_from_cam1.translation.vector;
-            let t_norm = t_over_d.norm();
-            estimate.model = MotionModel::Homography;
-            estimate.cam2_from_cam1 = Isometry3::from_parts(
-                Translation3::from(if t_norm > 0.0 {
-                    t_over_d / t_norm
-                } else {
-                    t_over_d
-                }),
-                candidate.cam2_from_cam1.rotation,
-            );
-            estimate.plane_normal_cam1 = Some(candidate.normal_cam1);
-            estimate.translation_over_plane_distance = Some(t_over_d);
-            estimate.num_in_front = candidate.num_in_front;
-            self.inliers.extend_from_slice(h_inl);
+            self.take_homography_pose(&h.model.h, x1, x2, plane_normal_prior_cam1, &mut estimate)?;
         } else if let Ok(e) = &e_fit {
-            let e_inl = self.essential_ransac.inliers();
-            let pose =
-                recover_pose(&e.model, x1, x2, e_inl).map_err(|_| TwoViewError::PoseRecovery)?;
-            estimate.cam2_from_cam1 = refine_pose_sampson(
-                &pose.cam2_from_cam1,
-                x1,
-                x2,
-                e_inl,
-                cfg.refine_iterations,
-                Some(cauchy_scale),
-            );
-            estimate.num_in_front = pose.num_in_front;
-            self.inliers.extend_from_slice(e_inl);
+            self.take_essential_pose(&e.model, x1, x2, cauchy_scale, &mut estimate)?;
         }
         estimate.num_inliers = self.inliers.len();
         self.check_inliers(estimate)
+    }
+
+    /// Rejects a bad focal length or sigma, slices of different lengths, too few points and
+    /// non-finite correspondences.
+    fn check_input(&self, x1: &[Vector2<f64>], x2: &[Vector2<f64>]) -> Result<(), TwoViewError> {
+        let cfg = &self.config;
+        if !(cfg.focal_px.is_finite() && cfg.focal_px > 0.0) {
+            return Err(TwoViewError::BadConfig("focal_px must be finite and > 0"));
+        }
+        if !(cfg.sigma_px.is_finite() && cfg.sigma_px > 0.0) {
+            return Err(TwoViewError::BadConfig("sigma_px must be finite and > 0"));
+        }
+        if x1.len() != x2.len() {
+            return Err(TwoViewError::LengthMismatch {
+                x1: x1.len(),
+                x2: x2.len(),
+            });
+        }
+        let needed = cfg.min_inliers.max(8);
+        if x1.len() < needed {
+            return Err(TwoViewError::TooFewPoints {
+                got: x1.len(),
+                needed,
+            });
+        }
+        if x1
+            .iter()
+            .chain(x2)
+            .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return Err(TwoViewError::BadConfig("correspondences must be finite"));
+        }
+        Ok(())
+    }
+
+    /// Fills `estimate` with the pose of the homography `h` (the decomposition the plane
+    /// normal prior picks, or the first) and takes its inliers.
+    fn take_homography_pose(
+        &mut self,
+        h: &Matrix3<f64>,
+        x1: &[Vector2<f64>],
+        x2: &[Vector2<f64>],
+        plane_normal_prior_cam1: Option<&UnitVector3<f64>>,
+        estimate: &mut TwoViewEstimate,
+    ) -> Result<(), TwoViewError> {
+        let h_inl = self.homography_ransac.inliers();
+        let decomposition =
+            decompose_homography(h, x1, x2, h_inl).map_err(|_| TwoViewError::PoseRecovery)?;
+        let candidate = match (&decomposition, plane_normal_prior_cam1) {
+            (HomographyDecomposition::Planar { .. }, Some(prior)) => {
+                decomposition.select_by_normal(prior)
+            }
+            _ => decomposition.candidates().first().copied(),
+        }
+        .ok_or(TwoViewError::PoseRecovery)?;
+        let t_over_d = candidate.cam2_from_cam1.translation.vector;
+        let t_norm = t_over_d.norm();
+        estimate.model = MotionModel::Homography;
+        estimate.cam2_from_cam1 = Isometry3::from_parts(
+            Translation3::from(if t_norm > 0.0 {
+                t_over_d / t_norm
+            } else {
+                t_over_d
+            }),
+            candidate.cam2_from_cam1.rotation,
+        );
+        estimate.plane_normal_cam1 = Some(candidate.normal_cam1);
+        estimate.translation_over_plane_distance = Some(t_over_d);
+        estimate.num_in_front = candidate.num_in_front;
+        self.inliers.extend_from_slice(h_inl);
+        Ok(())
+    }
+
+    /// Fills `estimate` with the pose recovered from the essential matrix `e`, refined on its
+    /// inliers, and takes those inliers.
+    fn take_essential_pose(
+        &mut self,
+        e: &Matrix3<f64>,
+        x1: &[Vector2<f64>],
+        x2: &[Vector2<f64>],
+        cauchy_scale: f64,
+        estimate: &mut TwoViewEstimate,
+    ) -> Result<(), TwoViewError> {
+        let e_inl = self.essential_ransac.inliers();
+        let pose = recover_pose(e, x1, x2, e_inl).map_err(|_| TwoViewError::PoseRecovery)?;
+        estimate.cam2_from_cam1 = refine_pose_sampson(
+            &pose.cam2_from_cam1,
+            x1,
+            x2,
+            e_inl,
+            self.config.refine_iterations,
+            Some(cauchy_scale),
+        );
+        estimate.num_in_front = pose.num_in_front;
+        self.inliers.extend_from_slice(e_inl);
+        Ok(())
     }
 
     fn check_inliers(&self, estimate: TwoViewEstimate) -> Result<TwoViewEstimate, TwoViewError> {

@@ -104,6 +104,28 @@ impl TwoViewConfig {
     pub fn homography_threshold_px(&self) -> f64 {
         (CHI2_2DOF_95 * 2.0).sqrt() * self.sigma_px
     }
+
+    /// The essential-matrix RANSAC's settings (thresholds in normalized coordinates).
+    pub fn essential_ransac(&self) -> RansacConfig {
+        RansacConfig {
+            threshold: self.essential_threshold_px() / self.focal_px,
+            confidence: self.confidence,
+            max_iterations: self.max_iterations,
+            min_iterations: 10,
+            local_optimization_steps: self.local_optimization_steps,
+            seed: self.seed,
+        }
+    }
+
+    /// The homography RANSAC's settings: the essential one's with its own threshold and
+    /// iteration cap.
+    pub fn homography_ransac(&self) -> RansacConfig {
+        RansacConfig {
+            threshold: self.homography_threshold_px() / self.focal_px,
+            max_iterations: self.homography_max_iterations,
+            ..self.essential_ransac()
+        }
+    }
 }
 
 /// Which model produced the pose.
@@ -365,25 +387,10 @@ impl TwoViewEstimator {
     /// An estimator for up to `max_points` correspondences per call (more still work, but may
     /// allocate).
     pub fn new(config: TwoViewConfig, max_points: usize) -> Self {
-        let ransac = RansacConfig {
-            threshold: config.essential_threshold_px() / config.focal_px,
-            confidence: config.confidence,
-            max_iterations: config.max_iterations,
-            min_iterations: 10,
-            local_optimization_steps: config.local_optimization_steps,
-            seed: config.seed,
-        };
         Self {
             config,
-            essential_ransac: Ransac::new(ransac, max_points),
-            homography_ransac: Ransac::new(
-                RansacConfig {
-                    threshold: config.homography_threshold_px() / config.focal_px,
-                    max_iterations: config.homography_max_iterations,
-                    ..ransac
-                },
-                max_points,
-            ),
+            essential_ransac: Ransac::new(config.essential_ransac(), max_points),
+            homography_ransac: Ransac::new(config.homography_ransac(), max_points),
             inliers: Vec::with_capacity(max_points),
         }
     }

@@ -8,6 +8,8 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use hopnav_ipc_bench::{BenchOptions, PeerArgs, Role, Transport, run_bench, run_peer};
 
+use crate::setup;
+
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
     /// One-way latency of 64 B … 4 MiB messages between two processes: hopnav topics,
@@ -170,12 +172,9 @@ fn render(args: RenderArgs) -> ExitCode {
 }
 
 fn ipc(args: IpcArgs) -> ExitCode {
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable("") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let samples = args
         .samples

@@ -20,7 +20,7 @@ use hopnav_supervisor::fault_injector::FaultRecord;
 use hopnav_supervisor::{LaunchError, LaunchOptions, LaunchOutcome, launch};
 use serde::Serialize;
 
-use crate::registry;
+use crate::{registry, setup};
 use table::{print_missions, print_reference, print_table};
 
 #[derive(Debug, Args)]
@@ -193,12 +193,9 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         .filter(|(_, process)| process.enabled)
         .map(|(name, _)| name.clone())
         .collect();
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable("") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let frame_period_ms = (base.run.frame_period_s() * 1e3) as u64;
     let watchdog_ms = base.watchdog.heartbeat_timeout_frames as u64 * frame_period_ms;
@@ -268,21 +265,7 @@ pub fn run(args: ChaosArgs) -> ExitCode {
 /// The configuration (file or defaults) with its sections and `--kinds` checked; the exit
 /// code to end with when it is unusable.
 fn load_checked_config(args: &ChaosArgs) -> Result<HopnavConfig, ExitCode> {
-    let loaded = match &args.config {
-        Some(path) => hopnav_config::load_file(path),
-        None => hopnav_config::load(None),
-    };
-    let base = match loaded {
-        Ok(config) => config,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return Err(ExitCode::from(crate::EXIT_CONFIG));
-        }
-    };
-    if let Err(error) = registry::check_sections(&base) {
-        eprintln!("error: {error}");
-        return Err(ExitCode::from(crate::EXIT_CONFIG));
-    }
+    let base = setup::load_checked_config(args.config.as_deref())?;
     const KINDS: [&str; 6] = ["kill", "stall", "hang", "drop", "corrupt", "delay"];
     if let Some(bad) = args
         .kinds

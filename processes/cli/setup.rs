@@ -39,3 +39,21 @@ pub fn own_executable(why: &str) -> Result<PathBuf, ExitCode> {
         ExitCode::FAILURE
     })
 }
+
+/// Ends a command that produced `result`: `print` shows the report (exit code success), or
+/// the error is printed (failure).
+pub fn report_outcome<T, E: std::fmt::Display>(
+    result: Result<T, E>,
+    print: impl FnOnce(T),
+) -> ExitCode {
+    match result {
+        Ok(report) => {
+            print(report);
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -236,7 +236,7 @@ pub fn run_process_with<P: Process>(
     mode: StartMode,
 ) -> Result<LoopExit, LoopError> {
     let mut trace = StartupTrace::new(&identity.name);
-    let Some((node, step_delay)) = start_up::<P>(&mut identity, mode, &mut trace)? else {
+    let Some(Started { node, step_delay }) = start_up::<P>(&mut identity, mode, &mut trace)? else {
         return Ok(LoopExit::Shutdown); // the supervisor no longer needs us
     };
     trace.phase("node");
@@ -273,6 +273,13 @@ pub fn run_process_with<P: Process>(
     )
 }
 
+/// A process that is prepared, promoted if it was a standby, and has its node.
+struct Started {
+    node: Node<IpcService>,
+    /// The injected slow-step delay, if any.
+    step_delay: Option<Duration>,
+}
+
 /// Prepares `P`, creates the node (ahead, for a standby) and installs the faults; a standby
 /// waits for its promotion in between. Returns the node and the injected step delay, or
 /// `None` when a standby is no longer needed.
@@ -280,7 +287,7 @@ fn start_up<P: Process>(
     identity: &mut ProcessIdentity,
     mode: StartMode,
     trace: &mut StartupTrace,
-) -> Result<Option<(Node<IpcService>, Option<Duration>)>, LoopError> {
+) -> Result<Option<Started>, LoopError> {
     if mode == StartMode::Standby {
         set_idle_priority(true);
     }
@@ -320,7 +327,7 @@ fn start_up<P: Process>(
         Some(node) => node,
         None => namespace.create_node(&identity.name)?,
     };
-    Ok(Some((node, step_delay)))
+    Ok(Some(Started { node, step_delay }))
 }
 
 /// The frame loop of a started process: waits for step commands (waking for each heartbeat

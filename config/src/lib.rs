@@ -14,6 +14,7 @@
 mod error;
 pub mod fault;
 mod merge;
+pub mod range;
 mod schema;
 mod validate;
 

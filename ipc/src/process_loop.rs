@@ -236,44 +236,8 @@ pub fn run_process_with<P: Process>(
     mode: StartMode,
 ) -> Result<LoopExit, LoopError> {
     let mut trace = StartupTrace::new(&identity.name);
-    if mode == StartMode::Standby {
-        set_idle_priority(true);
-    }
-    let prepared = P::prepare(&identity).map_err(|error| LoopError::Process {
-        stage: "prepare",
-        reason: error.to_string(),
-    })?;
-    if let Ok(mut slot) = PREPARED.lock() {
-        *slot = prepared.0;
-    }
-    trace.phase("prepare");
-    let namespace = Namespace::new(&identity.run_id)?.without_dead_node_scans();
-    // A standby creates its node ahead too (no ports: it receives nothing, blocks no topic).
-    let standby_node = match mode {
-        StartMode::Standby => Some(namespace.create_node(&identity.name)?),
-        StartMode::Cold => None,
-    };
-    match mode {
-        StartMode::Cold => crate::fault::install_from_env(),
-        StartMode::Standby => {
-            notify_prepared();
-            let Some(promotion) = wait_for_promotion()? else {
-                return Ok(LoopExit::Shutdown); // the supervisor no longer needs us
-            };
-            set_idle_priority(false);
-            trace.restart_clock();
-            identity.incarnation = promotion.incarnation;
-            crate::fault::install(promotion.faults.as_deref())
-        }
-    }
-    .map_err(|error| LoopError::Process {
-        stage: "faults",
-        reason: error.to_string(),
-    })?;
-    let step_delay = crate::fault::step_delay();
-    let node = match standby_node {
-        Some(node) => node,
-        None => namespace.create_node(&identity.name)?,
+    let Some(Started { node, step_delay }) = start_up::<P>(&mut identity, mode, &mut trace)? else {
+        return Ok(LoopExit::Shutdown); // the supervisor no longer needs us
     };
     trace.phase("node");
     let context = ProcessContext { node, identity };
@@ -300,7 +264,82 @@ pub fn run_process_with<P: Process>(
     heartbeat.send(ProcessState::Ready, 0)?;
     heartbeat.template.processing_time_ns = 0;
     trace.phase("ready");
+    serve_steps(
+        &mut process,
+        &context,
+        &step_commands,
+        &mut heartbeat,
+        step_delay,
+    )
+}
 
+/// A process that is prepared, promoted if it was a standby, and has its node.
+struct Started {
+    node: Node<IpcService>,
+    /// The injected slow-step delay, if any.
+    step_delay: Option<Duration>,
+}
+
+/// Prepares `P`, creates the node (ahead, for a standby) and installs the faults; a standby
+/// waits for its promotion in between. Returns the node and the injected step delay, or
+/// `None` when a standby is no longer needed.
+fn start_up<P: Process>(
+    identity: &mut ProcessIdentity,
+    mode: StartMode,
+    trace: &mut StartupTrace,
+) -> Result<Option<Started>, LoopError> {
+    if mode == StartMode::Standby {
+        set_idle_priority(true);
+    }
+    let prepared = P::prepare(identity).map_err(|error| LoopError::Process {
+        stage: "prepare",
+        reason: error.to_string(),
+    })?;
+    if let Ok(mut slot) = PREPARED.lock() {
+        *slot = prepared.0;
+    }
+    trace.phase("prepare");
+    let namespace = Namespace::new(&identity.run_id)?.without_dead_node_scans();
+    // A standby creates its node ahead too (no ports: it receives nothing, blocks no topic).
+    let standby_node = match mode {
+        StartMode::Standby => Some(namespace.create_node(&identity.name)?),
+        StartMode::Cold => None,
+    };
+    match mode {
+        StartMode::Cold => crate::fault::install_from_env(),
+        StartMode::Standby => {
+            notify_prepared();
+            let Some(promotion) = wait_for_promotion()? else {
+                return Ok(None);
+            };
+            set_idle_priority(false);
+            trace.restart_clock();
+            identity.incarnation = promotion.incarnation;
+            crate::fault::install(promotion.faults.as_deref())
+        }
+    }
+    .map_err(|error| LoopError::Process {
+        stage: "faults",
+        reason: error.to_string(),
+    })?;
+    let step_delay = crate::fault::step_delay();
+    let node = match standby_node {
+        Some(node) => node,
+        None => namespace.create_node(&identity.name)?,
+    };
+    Ok(Some(Started { node, step_delay }))
+}
+
+/// The frame loop of a started process: waits for step commands (waking for each heartbeat
+/// that falls due), steps the newest released frame, reports each step and idle period in a
+/// heartbeat; at shutdown or a termination signal stops the process and says so.
+fn serve_steps<P: Process>(
+    process: &mut P,
+    context: &ProcessContext,
+    step_commands: &Subscriber<FrameTick>,
+    heartbeat: &mut HeartbeatSender,
+    step_delay: Option<Duration>,
+) -> Result<LoopExit, LoopError> {
     let waitset = WaitSetBuilder::new()
         .create::<IpcService>()
         .map_err(|error| LoopError::Wait(format!("{error:?}")))?;
@@ -327,25 +366,7 @@ pub fn run_process_with<P: Process>(
             Err(error) => return Err(LoopError::Wait(format!("{error:?}"))),
         }
         step_commands.clear_events();
-        let mut shutdown = false;
-        // Step every released frame in order; a release that was overtaken by a newer one
-        // (real-time mode, we were late) is skipped by stepping only the newest.
-        let mut newest_step: Option<FrameTick> = None;
-        while let Some(tick) = step_commands
-            .receive()
-            .map_err(|error| LoopError::Wait(error.to_string()))?
-        {
-            match tick.command() {
-                Some(FrameCommand::Shutdown) => shutdown = true,
-                Some(FrameCommand::Step) => {
-                    let is_new = last_frame == NO_FRAME || tick.stamp.frame_index > last_frame;
-                    if is_new {
-                        newest_step = Some(tick);
-                    }
-                }
-                None => {}
-            }
-        }
+        let (newest_step, shutdown) = receive_step_commands(step_commands, last_frame)?;
         if let Some(tick) = newest_step {
             let started_ns = monotonic_now_ns();
             if let Some(delay) = step_delay {
@@ -353,7 +374,7 @@ pub fn run_process_with<P: Process>(
                 std::thread::sleep(delay);
             }
             process
-                .step(&context, &tick)
+                .step(context, &tick)
                 .map_err(|error| LoopError::Process {
                     stage: "step",
                     reason: error.to_string(),
@@ -373,10 +394,37 @@ pub fn run_process_with<P: Process>(
             heartbeat.send(ProcessState::Idle, rejected)?;
         }
     };
-    process.stop(&context);
+    process.stop(context);
     let rejected = process.rejected_samples() + step_commands.rejected().total();
     let _ = heartbeat.send(ProcessState::Stopping, rejected);
     Ok(exit)
+}
+
+/// Drains the step commands: the newest released frame after `last_frame` to step (a
+/// release overtaken by a newer one, in real-time mode when we were late, is skipped), and
+/// whether a shutdown was asked for.
+fn receive_step_commands(
+    step_commands: &Subscriber<FrameTick>,
+    last_frame: u64,
+) -> Result<(Option<FrameTick>, bool), LoopError> {
+    let mut shutdown = false;
+    let mut newest_step: Option<FrameTick> = None;
+    while let Some(tick) = step_commands
+        .receive()
+        .map_err(|error| LoopError::Wait(error.to_string()))?
+    {
+        match tick.command() {
+            Some(FrameCommand::Shutdown) => shutdown = true,
+            Some(FrameCommand::Step) => {
+                let is_new = last_frame == NO_FRAME || tick.stamp.frame_index > last_frame;
+                if is_new {
+                    newest_step = Some(tick);
+                }
+            }
+            None => {}
+        }
+    }
+    Ok((newest_step, shutdown))
 }
 
 /// The supervisor's promotion of a standby.

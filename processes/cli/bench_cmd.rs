@@ -8,6 +8,8 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use hopnav_ipc_bench::{BenchOptions, PeerArgs, Role, Transport, run_bench, run_peer};
 
+use crate::setup;
+
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
     /// One-way latency of 64 B … 4 MiB messages between two processes: hopnav topics,
@@ -117,16 +119,10 @@ fn vo(args: VoBenchArgs) -> ExitCode {
         }
     };
     let config = hopnav_jumper_vo::config::JumperVoConfig::default();
-    match hopnav_jumper_vo::bench::bench_hop(&hop, &config, args.repeats as usize) {
-        Ok(cost) => {
-            println!("jumper VO per frame (target <= 5 ms): {cost}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
-    }
+    setup::report_outcome(
+        hopnav_jumper_vo::bench::bench_hop(&hop, &config, args.repeats as usize),
+        |cost| println!("jumper VO per frame (target <= 5 ms): {cost}"),
+    )
 }
 
 fn physics(args: PhysicsArgs) -> ExitCode {
@@ -135,16 +131,10 @@ fn physics(args: PhysicsArgs) -> ExitCode {
         ..Default::default()
     };
     eprintln!("stepping {} frames of the default world …", options.frames);
-    match hopnav_physics::bench::run_physics_bench(&options) {
-        Ok(report) => {
-            println!("{report}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
-    }
+    setup::report_outcome(
+        hopnav_physics::bench::run_physics_bench(&options),
+        |report| println!("{report}"),
+    )
 }
 
 fn render(args: RenderArgs) -> ExitCode {
@@ -157,25 +147,15 @@ fn render(args: RenderArgs) -> ExitCode {
         "rendering {} frames of 320x320 (best of {} per pose) …",
         options.frames, options.repeats_per_pose
     );
-    match hopnav_world::bench::render_bench(&options) {
-        Ok(report) => {
-            println!("{report}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
-    }
+    setup::report_outcome(hopnav_world::bench::render_bench(&options), |report| {
+        println!("{report}")
+    })
 }
 
 fn ipc(args: IpcArgs) -> ExitCode {
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable("") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let samples = args
         .samples

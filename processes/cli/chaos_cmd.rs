@@ -8,19 +8,20 @@
 //! ([`hopnav_eval::faulted_mission`]), and faults are drawn inside its frames, so they hit the
 //! traverse rather than the time after B. Every launch stops at B.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod table;
+
 use clap::Args;
 use hopnav_config::HopnavConfig;
-use hopnav_eval::faulted_mission::{FaultedMission, MissionOutcome, Verdict, judge};
+use hopnav_eval::faulted_mission::{FaultedMission, MissionOutcome, judge};
 use hopnav_supervisor::fault_injector::FaultRecord;
 use hopnav_supervisor::{LaunchError, LaunchOptions, LaunchOutcome, launch};
 use serde::Serialize;
 
-use crate::compare_quality::median_and_worst;
-use crate::registry;
+use crate::{registry, setup};
+use table::{print_missions, print_reference, print_table};
 
 #[derive(Debug, Args)]
 pub struct ChaosArgs {
@@ -70,6 +71,41 @@ struct ChaosRun {
 
 impl ChaosRun {
     /// A run whose launch never got going (no report: no mission, faults or panics).
+    /// The record of a launch that ran; `missions` pairs the unfaulted reference with this
+    /// run's mission, when both ran one.
+    fn of_launch(
+        run: u64,
+        outcome: &LaunchOutcome,
+        missions: Option<(MissionOutcome, MissionOutcome)>,
+        (before, after): (usize, usize),
+    ) -> Self {
+        let panics = count_panics(&outcome.report);
+        let vs_unfaulted =
+            missions.map(|(reference, mission)| judge(&reference, mission, &outcome.report.faults));
+        ChaosRun {
+            vs_unfaulted,
+            run,
+            outcome: outcome.report.outcome.clone(),
+            mission: outcome.report.mission.as_ref().map(|mission| {
+                if mission.goal_reached {
+                    "goal reached".to_owned()
+                } else {
+                    format!(
+                        "{} m to go",
+                        hopnav_eval::MissionEvaluation::of(mission)
+                            .final_distance_to_goal_m
+                            .map_or("?".into(), |m| format!("{m:.1}"))
+                    )
+                }
+            }),
+            faults: outcome.report.faults.clone(),
+            hopnav_files_before: before,
+            hopnav_files_after: after,
+            leftover_files: outcome.report.leftover_files,
+            panics,
+        }
+    }
+
     fn without_launch(run: u64, outcome: String, before: usize, after: usize) -> Self {
         Self {
             run,
@@ -147,45 +183,19 @@ fn draw_fault(
 }
 
 pub fn run(args: ChaosArgs) -> ExitCode {
-    let loaded = match &args.config {
-        Some(path) => hopnav_config::load_file(path),
-        None => hopnav_config::load(None),
-    };
-    let base = match loaded {
+    let base = match load_checked_config(&args) {
         Ok(config) => config,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
+        Err(code) => return code,
     };
-    if let Err(error) = registry::check_sections(&base) {
-        eprintln!("error: {error}");
-        return ExitCode::from(crate::EXIT_CONFIG);
-    }
-    const KINDS: [&str; 6] = ["kill", "stall", "hang", "drop", "corrupt", "delay"];
-    if let Some(bad) = args
-        .kinds
-        .iter()
-        .find(|kind| !KINDS.contains(&kind.as_str()))
-    {
-        eprintln!(
-            "error: --kinds: unknown kind {bad:?} (known: {})",
-            KINDS.join(", ")
-        );
-        return ExitCode::from(crate::EXIT_CONFIG);
-    }
     let processes: Vec<String> = base
         .processes
         .iter()
         .filter(|(_, process)| process.enabled)
         .map(|(name, _)| name.clone())
         .collect();
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable("") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let frame_period_ms = (base.run.frame_period_s() * 1e3) as u64;
     let watchdog_ms = base.watchdog.heartbeat_timeout_frames as u64 * frame_period_ms;
@@ -200,32 +210,9 @@ pub fn run(args: ChaosArgs) -> ExitCode {
         config.faults.inject.clear();
         config
     };
-    // A graph runs a mission when its planner runs (as the supervisor decides).
-    let runs_mission = base
-        .processes
-        .get("planner")
-        .is_some_and(|planner| planner.enabled);
-    let reference = if runs_mission {
-        eprintln!("[unfaulted] the same launch without faults, the missions' reference");
-        match launch_once(chaos_config(args.seed), &executable) {
-            Ok(outcome) if outcome.interrupted => {
-                eprintln!("interrupted: stopped during the unfaulted launch, before any run");
-                return ExitCode::from(crate::EXIT_INTERRUPTED);
-            }
-            Err(LaunchError::Interrupted) => {
-                eprintln!(
-                    "interrupted: stopped while the unfaulted launch started, before any run"
-                );
-                return ExitCode::from(crate::EXIT_INTERRUPTED);
-            }
-            Ok(outcome) => mission_outcome(&outcome, base.run.frame_period_s()),
-            Err(error) => {
-                eprintln!("error: the unfaulted launch failed: {error}");
-                return ExitCode::FAILURE;
-            }
-        }
-    } else {
-        None
+    let reference = match unfaulted_reference(&base, chaos_config(args.seed), &executable) {
+        Ok(reference) => reference,
+        Err(code) => return code,
     };
     print_reference(reference.as_ref(), args.frames);
     // Faults fall inside the traverse (its first and last tenth spared, see `draw_fault`).
@@ -237,21 +224,13 @@ pub fn run(args: ChaosArgs) -> ExitCode {
     let mut interrupted = false;
     for run in 0..args.runs {
         let mut config = chaos_config(args.seed.wrapping_add(run));
-        let mut faults = Vec::new();
-        let mut attempts = 0;
-        while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
-            attempts += 1;
-            if let Some(fault) = draw_fault(
-                &mut draw,
-                &args.kinds,
-                &processes,
-                fault_frames,
-                frame_period_ms,
-                watchdog_ms,
-            ) {
-                faults.push(fault);
-            }
-        }
+        let faults = draw_faults(
+            &mut draw,
+            &args,
+            &processes,
+            fault_frames,
+            (frame_period_ms, watchdog_ms),
+        );
         config.faults.inject = faults.clone();
         eprintln!("[{}/{}] {}", run + 1, args.runs, faults.join(" "));
         let before = hopnav_ipc::namespace::hopnav_files().len();
@@ -264,32 +243,8 @@ pub fn run(args: ChaosArgs) -> ExitCode {
             }
             Ok(outcome) => {
                 interrupted = outcome.interrupted;
-                let panics = count_panics(&outcome.report);
-                let vs_unfaulted = reference
-                    .zip(mission_outcome(&outcome, base.run.frame_period_s()))
-                    .map(|(reference, mission)| judge(&reference, mission, &outcome.report.faults));
-                ChaosRun {
-                    vs_unfaulted,
-                    run,
-                    outcome: outcome.report.outcome.clone(),
-                    mission: outcome.report.mission.as_ref().map(|mission| {
-                        if mission.goal_reached {
-                            "goal reached".to_owned()
-                        } else {
-                            format!(
-                                "{} m to go",
-                                hopnav_eval::MissionEvaluation::of(mission)
-                                    .final_distance_to_goal_m
-                                    .map_or("?".into(), |m| format!("{m:.1}"))
-                            )
-                        }
-                    }),
-                    faults: outcome.report.faults.clone(),
-                    hopnav_files_before: before,
-                    hopnav_files_after: after,
-                    leftover_files: outcome.report.leftover_files,
-                    panics,
-                }
+                let mission = mission_outcome(&outcome, base.run.frame_period_s());
+                ChaosRun::of_launch(run, &outcome, reference.zip(mission), (before, after))
             }
             Err(error) => {
                 ChaosRun::without_launch(run, format!("launch failed: {error}"), before, after)
@@ -304,6 +259,90 @@ pub fn run(args: ChaosArgs) -> ExitCode {
     }
     print_table(&runs, base.run.frame_period_s());
     print_missions(&runs, reference.as_ref());
+    finish(&runs, &args, interrupted)
+}
+
+/// The configuration (file or defaults) with its sections and `--kinds` checked; the exit
+/// code to end with when it is unusable.
+fn load_checked_config(args: &ChaosArgs) -> Result<HopnavConfig, ExitCode> {
+    let base = setup::load_checked_config(args.config.as_deref())?;
+    const KINDS: [&str; 6] = ["kill", "stall", "hang", "drop", "corrupt", "delay"];
+    if let Some(bad) = args
+        .kinds
+        .iter()
+        .find(|kind| !KINDS.contains(&kind.as_str()))
+    {
+        eprintln!(
+            "error: --kinds: unknown kind {bad:?} (known: {})",
+            KINDS.join(", ")
+        );
+        return Err(ExitCode::from(crate::EXIT_CONFIG));
+    }
+    Ok(base)
+}
+
+/// The missions' reference: the same launch without faults, when the graph runs a mission
+/// (when its planner runs, as the supervisor decides); the exit code to end with when it
+/// was interrupted or failed.
+fn unfaulted_reference(
+    base: &HopnavConfig,
+    config: HopnavConfig,
+    executable: &std::path::Path,
+) -> Result<Option<MissionOutcome>, ExitCode> {
+    let runs_mission = base
+        .processes
+        .get("planner")
+        .is_some_and(|planner| planner.enabled);
+    if !runs_mission {
+        return Ok(None);
+    }
+    eprintln!("[unfaulted] the same launch without faults, the missions' reference");
+    match launch_once(config, executable) {
+        Ok(outcome) if outcome.interrupted => {
+            eprintln!("interrupted: stopped during the unfaulted launch, before any run");
+            Err(ExitCode::from(crate::EXIT_INTERRUPTED))
+        }
+        Err(LaunchError::Interrupted) => {
+            eprintln!("interrupted: stopped while the unfaulted launch started, before any run");
+            Err(ExitCode::from(crate::EXIT_INTERRUPTED))
+        }
+        Ok(outcome) => Ok(mission_outcome(&outcome, base.run.frame_period_s())),
+        Err(error) => {
+            eprintln!("error: the unfaulted launch failed: {error}");
+            Err(ExitCode::FAILURE)
+        }
+    }
+}
+
+/// Up to `--faults-per-run` faults for one run (100 draws at most).
+fn draw_faults(
+    draw: &mut Draw,
+    args: &ChaosArgs,
+    processes: &[String],
+    fault_frames: u64,
+    (frame_period_ms, watchdog_ms): (u64, u64),
+) -> Vec<String> {
+    let mut faults = Vec::new();
+    let mut attempts = 0;
+    while (faults.len() as u64) < args.faults_per_run && attempts < 100 {
+        attempts += 1;
+        if let Some(fault) = draw_fault(
+            draw,
+            &args.kinds,
+            processes,
+            fault_frames,
+            frame_period_ms,
+            watchdog_ms,
+        ) {
+            faults.push(fault);
+        }
+    }
+    faults
+}
+
+/// Writes `chaos.json` and picks the exit code: interrupted, or success when every run
+/// completed with no leftover files and no panics.
+fn finish(runs: &[ChaosRun], args: &ChaosArgs, interrupted: bool) -> ExitCode {
     let path = args.out.join("chaos.json");
     let json = serde_json::to_string_pretty(&runs).unwrap_or_default();
     if let Err(error) =
@@ -356,76 +395,6 @@ fn mission_outcome(outcome: &LaunchOutcome, frame_period_s: f64) -> Option<Missi
     })
 }
 
-fn print_reference(reference: Option<&MissionOutcome>, frames: u64) {
-    match reference {
-        Some(mission) if mission.goal_reached => eprintln!(
-            "[unfaulted] B reached in {} frames, {:.1} m driven; faults are drawn inside those frames",
-            mission.frames, mission.executed_path_m
-        ),
-        Some(mission) => eprintln!(
-            "[unfaulted] B not reached in {frames} frames ({:.1} m driven): missions are not judged; give --frames enough for the mission",
-            mission.executed_path_m
-        ),
-        None => eprintln!("[unfaulted] this graph runs no mission: missions are not judged"),
-    }
-}
-
-/// The mission column of a run: the verdict against the unfaulted mission.
-fn mission_cell(run: &ChaosRun) -> String {
-    let Some(judged) = run.vs_unfaulted else {
-        return run.mission.clone().unwrap_or_else(|| "-".into());
-    };
-    let percent = |excess: Option<f64>| excess.map_or("?".into(), |e| format!("{:+.1} %", e * 1e2));
-    match judged.verdict {
-        Verdict::Reached => format!(
-            "B in {} f, path {}",
-            judged.outcome.frames,
-            percent(judged.path_excess)
-        ),
-        Verdict::ReachedLate => format!(
-            "B late: {} f > {} allowed, path {}",
-            judged.outcome.frames,
-            judged.allowed_frames.unwrap_or(0),
-            percent(judged.path_excess)
-        ),
-        Verdict::Lost => format!(
-            "lost: {}",
-            run.mission.as_deref().unwrap_or("B not reached")
-        ),
-        Verdict::NoReference => run.mission.clone().unwrap_or_else(|| "-".into()),
-    }
-}
-
-/// The missions against the unfaulted one: reached, late, lost; path and time excess.
-fn print_missions(runs: &[ChaosRun], reference: Option<&MissionOutcome>) {
-    let Some(reference) = reference.filter(|mission| mission.goal_reached) else {
-        return;
-    };
-    let judged: Vec<&FaultedMission> = runs
-        .iter()
-        .filter_map(|run| run.vs_unfaulted.as_ref())
-        .collect();
-    let count = |verdict: Verdict| judged.iter().filter(|j| j.verdict == verdict).count();
-    let mut paths: Vec<f64> = judged.iter().filter_map(|j| j.path_excess).collect();
-    let mut times: Vec<f64> = judged.iter().filter_map(|j| j.time_excess).collect();
-    let spread = |values: &mut [f64]| {
-        median_and_worst(values).map_or("-".to_owned(), |(median, worst)| {
-            format!("median {:+.1} %, worst {:+.1} %", median * 1e2, worst * 1e2)
-        })
-    };
-    println!(
-        "missions against the unfaulted one (B in {} frames, {:.1} m): B reached in time {}/{}, late {}, lost {}; path {}; frames to B {}",
-        reference.frames,
-        reference.executed_path_m,
-        count(Verdict::Reached),
-        judged.len(),
-        count(Verdict::ReachedLate),
-        count(Verdict::Lost),
-        spread(&mut paths),
-        spread(&mut times),
-    );
-}
-
 /// Exits whose reason shows a Rust panic (exit code 101).
 fn count_panics(report: &hopnav_supervisor::report::RunReport) -> usize {
     report
@@ -434,120 +403,4 @@ fn count_panics(report: &hopnav_supervisor::report::RunReport) -> usize {
         .flat_map(|process| process.exits.iter())
         .filter(|exit| exit.reason.contains("code 101"))
         .count()
-}
-
-fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
-    let mut out = std::io::stdout().lock();
-    let _ = writeln!(
-        out,
-        "\n{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} outcome",
-        "run",
-        "injected",
-        "detected",
-        "recovered",
-        "recover p50",
-        "recover max",
-        "files b/a",
-        "panics",
-        "mission"
-    );
-    let mut all_recoveries = Vec::new();
-    let mut all_detections = Vec::new();
-    let (mut injected_total, mut recovered_total, mut kills, mut kills_fast) = (0, 0, 0, 0);
-    let (mut hangs, mut hangs_fast) = (0, 0);
-    for run in runs {
-        let fired: Vec<&FaultRecord> = run
-            .faults
-            .iter()
-            .filter(|fault| fault.injected_frame.is_some())
-            .collect();
-        let detected = fired
-            .iter()
-            .filter(|fault| fault.detected_after_s.is_some())
-            .count();
-        let mut recoveries: Vec<f64> = fired
-            .iter()
-            .filter_map(|fault| fault.recovered_after_s)
-            .collect();
-        recoveries.sort_by(f64::total_cmp);
-        all_detections.extend(fired.iter().filter_map(|fault| fault.detected_after_s));
-        for fault in &fired {
-            // A freeze longer than two frame periods is a hang the watchdog must catch.
-            let freeze_ms = fault
-                .fault
-                .parse::<hopnav_config::fault::FaultSpec>()
-                .ok()
-                .and_then(|spec| match spec.kind {
-                    hopnav_config::fault::FaultKind::Stall { duration_ms } => Some(duration_ms),
-                    _ => None,
-                });
-            if freeze_ms.is_some_and(|ms| ms as f64 > 2e3 * frame_period_s) {
-                hangs += 1;
-                if fault
-                    .detected_after_s
-                    .is_some_and(|s| s <= 2.0 * frame_period_s)
-                {
-                    hangs_fast += 1;
-                }
-            }
-            if fault.fault.starts_with("kill:") {
-                kills += 1;
-                if fault
-                    .recovered_after_s
-                    .is_some_and(|s| s <= 2.0 * frame_period_s)
-                {
-                    kills_fast += 1;
-                }
-            }
-        }
-        injected_total += run.faults.len();
-        recovered_total += recoveries.len();
-        all_recoveries.extend(recoveries.iter().copied());
-        let ms =
-            |value: Option<&f64>| value.map_or("-".to_owned(), |s| format!("{:.0} ms", s * 1e3));
-        let _ = writeln!(
-            out,
-            "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} {}",
-            run.run,
-            run.faults.len(),
-            detected,
-            format!("{}/{}", recoveries.len(), fired.len()),
-            ms(recoveries.get(recoveries.len() / 2)),
-            ms(recoveries.last()),
-            format!("{}/{}", run.hopnav_files_before, run.hopnav_files_after),
-            run.panics,
-            mission_cell(run),
-            run.outcome
-        );
-    }
-    all_recoveries.sort_by(f64::total_cmp);
-    let leaked: usize = runs.iter().map(|run| run.leftover_files).sum();
-    let _ = writeln!(
-        out,
-        "\n{} faults injected ({} fired with a time), {} recovered; recovery p50 {}, max {}; kills recovered within 2 frame periods: {kills_fast}/{kills}; leaked files {leaked}; panics {}",
-        injected_total,
-        runs.iter()
-            .flat_map(|run| &run.faults)
-            .filter(|fault| fault.injected_frame.is_some())
-            .count(),
-        recovered_total,
-        all_recoveries
-            .get(all_recoveries.len() / 2)
-            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
-        all_recoveries
-            .last()
-            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
-        runs.iter().map(|run| run.panics).sum::<usize>()
-    );
-    all_detections.sort_by(f64::total_cmp);
-    let _ = writeln!(
-        out,
-        "detection p50 {}, max {}; hangs detected within 2 frame periods: {hangs_fast}/{hangs}",
-        all_detections
-            .get(all_detections.len() / 2)
-            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
-        all_detections
-            .last()
-            .map_or("-".into(), |s| format!("{:.0} ms", s * 1e3)),
-    );
 }

@@ -22,6 +22,7 @@ use crate::compare_table::{print_table, write_outputs};
 use crate::compare_variant::{RunSetPlan, VariantMode, mission_config, run_set_plans};
 use crate::compare_verdict::{comparison_lines, verdict_lines};
 use crate::registry;
+use crate::setup;
 
 /// Examples and the targets file's keys, after the options in `--help`.
 const AFTER_HELP: &str = "\
@@ -118,16 +119,9 @@ pub fn run(args: CompareArgs) -> ExitCode {
     if !args.pair.is_empty() {
         return pair_folders(&args.pair, targets.as_ref());
     }
-    let loaded = match &args.config {
-        Some(path) => hopnav_config::load_file(path),
-        None => hopnav_config::load(None),
-    };
-    let base = match loaded {
+    let base = match setup::load_config(args.config.as_deref()) {
         Ok(config) => config,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
+        Err(code) => return code,
     };
     let k_valid = |k: f64| k.is_finite() && (0.0..=0.5).contains(&k);
     if !(k_valid(args.k_min) && k_valid(args.k_max) && args.k_min <= args.k_max) {
@@ -173,12 +167,9 @@ pub fn run(args: CompareArgs) -> ExitCode {
             }
         }
     }
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable(" to start children") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable to start children: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     for plan in &plans {
         if let Err(error) = std::fs::create_dir_all(&plan.out) {

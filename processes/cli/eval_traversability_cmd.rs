@@ -16,6 +16,7 @@ use serde::Serialize;
 use crate::compare_quality::median_and_worst;
 use crate::compare_variant::{RunSetPlan, mission_config};
 use crate::registry;
+use crate::setup;
 
 /// The rock abundances the targets are set at (Golombek k).
 const ABUNDANCES: [f64; 4] = [0.07, 0.10, 0.13, 0.16];
@@ -56,32 +57,17 @@ struct MissionRow {
 }
 
 pub fn run(args: TraversabilityArgs) -> ExitCode {
-    let loaded = match &args.config {
-        Some(path) => hopnav_config::load_file(path),
-        None => hopnav_config::load(None),
-    };
-    let base = match loaded
-        .map_err(|error| error.to_string())
-        .and_then(|config| {
-            registry::check_sections(&config).map_err(|error| error.to_string())?;
-            Ok(config)
-        }) {
+    let base = match setup::load_checked_config(args.config.as_deref()) {
         Ok(config) => config,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
+        Err(code) => return code,
     };
     if let Err(error) = std::fs::create_dir_all(&args.out) {
         eprintln!("error: cannot create {}: {error}", args.out.display());
         return ExitCode::FAILURE;
     }
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable("") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let plan = RunSetPlan {
         label: "traversability".into(),

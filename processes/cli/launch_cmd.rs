@@ -7,6 +7,7 @@ use clap::Args;
 use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 
 use crate::registry;
+use crate::setup;
 
 #[derive(Debug, Args)]
 pub struct LaunchArgs {
@@ -47,21 +48,10 @@ pub struct LaunchArgs {
 }
 
 pub fn run(args: LaunchArgs) -> ExitCode {
-    let loaded = match &args.config {
-        Some(path) => hopnav_config::load_file(path),
-        None => hopnav_config::load(None),
-    };
-    let mut config = match loaded {
+    let mut config = match setup::load_checked_config(args.config.as_deref()) {
         Ok(config) => config,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
+        Err(code) => return code,
     };
-    if let Err(error) = registry::check_sections(&config) {
-        eprintln!("error: {error}");
-        return ExitCode::from(crate::EXIT_CONFIG);
-    }
     config.run.lockstep |= args.lockstep;
     if let Some(frames) = args.frames {
         config.run.frames = frames;
@@ -100,12 +90,9 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         eprintln!("error: --run-id {run_id:?} must be 1..=48 characters of [A-Za-z0-9-]");
         return ExitCode::from(crate::EXIT_CONFIG);
     }
-    let executable = match std::env::current_exe() {
+    let executable = match setup::own_executable(" to start children") {
         Ok(path) => path,
-        Err(error) => {
-            eprintln!("error: cannot find the hopnav executable to start children: {error}");
-            return ExitCode::FAILURE;
-        }
+        Err(code) => return code,
     };
     let options = LaunchOptions {
         config,

@@ -20,6 +20,7 @@ mod plan_cmd;
 mod registry;
 mod rover_vo_cmd;
 mod run_cmd;
+mod setup;
 
 use std::process::ExitCode;
 

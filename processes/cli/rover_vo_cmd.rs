@@ -6,6 +6,8 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use crate::setup;
+
 #[derive(Debug, Args)]
 pub struct RoverVoEvalArgs {
     /// Folder for truth.tum, estimate.tum and trajectory.png (top view, truth vs estimate).
@@ -37,17 +39,10 @@ pub fn eval(args: RoverVoEvalArgs) -> ExitCode {
         options.traverse.seed = seed;
     }
     eprintln!("rendering and tracking the traverse (about a thousand stereo frames)...");
-    match hopnav_eval::rover_vo::run(&options) {
-        Ok(report) => {
-            println!("{report}");
-            println!("files: {}", args.out.display());
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
-    }
+    setup::report_outcome(hopnav_eval::rover_vo::run(&options), |report| {
+        println!("{report}");
+        println!("files: {}", args.out.display());
+    })
 }
 
 pub fn bench(args: RoverVoBenchArgs) -> ExitCode {
@@ -55,14 +50,7 @@ pub fn bench(args: RoverVoBenchArgs) -> ExitCode {
         repeats: args.repeats as usize,
         ..Default::default()
     };
-    match hopnav_rover_vo::bench::run(&options) {
-        Ok(report) => {
-            println!("{report}");
-            ExitCode::SUCCESS
-        }
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::FAILURE
-        }
-    }
+    setup::report_outcome(hopnav_rover_vo::bench::run(&options), |report| {
+        println!("{report}")
+    })
 }

@@ -7,6 +7,7 @@
 //! through [`SlicePublisher`] and [`SliceSubscriber`] with a header that announces them.
 
 mod error;
+mod intake;
 mod open;
 mod publisher;
 mod slice_publisher;

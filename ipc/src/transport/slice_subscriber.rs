@@ -1,19 +1,17 @@
 //! Subscriber of slices, validating each header against its slice.
 
-use core::cell::{Cell, RefCell};
-
-use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 use iceoryx2::sample::Sample;
 
+use super::intake::Intake;
 use super::open::{event_service, port_error, slice_data_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
 use crate::topics::TopicSpec;
-use crate::validate::{Rejection, SequenceGuard, SliceHeader};
+use crate::validate::{Rejection, SliceHeader};
 
 /// A received slice sample whose header matched its payload. Borrowed from shared memory:
 /// read it in place (no copy) and drop it to return the memory to the publisher.
@@ -47,11 +45,7 @@ where
     H::Element: ZeroCopySend,
 {
     port: RawSubscriber<IpcService, [H::Element], H>,
-    listener: Listener<IpcService>,
-    // Cells: receiving must work while a WaitSet borrows the listener.
-    sequence_guard: RefCell<SequenceGuard<UniquePublisherId>>,
-    rejected: Cell<RejectCounts>,
-    topic: String,
+    intake: Intake,
 }
 
 impl<H: SliceHeader + ZeroCopySend> SliceSubscriber<H>
@@ -67,27 +61,20 @@ where
             .buffer_size(spec.subscriber_buffer.max(1))
             .create()
             .map_err(|error| port_error(spec, error))?;
-        let listener = events
-            .listener_builder()
-            .create()
-            .map_err(|error| port_error(spec, error))?;
         Ok(Self {
             port,
-            listener,
-            sequence_guard: RefCell::new(SequenceGuard::new(spec.max_publishers.max(1) * 2)),
-            rejected: Cell::new(RejectCounts::default()),
-            topic: spec.name.to_string(),
+            intake: Intake::open(&events, spec)?,
         })
     }
 
     /// The event listener to attach to a WaitSet.
     pub fn listener(&self) -> &Listener<IpcService> {
-        &self.listener
+        self.intake.listener()
     }
 
     /// Consumes pending wake-up events (call after waking, before receiving).
     pub fn clear_events(&self) {
-        let _ = self.listener.try_wait(|_| {});
+        self.intake.clear_events();
     }
 
     /// The next valid sample, in place; `None` when drained.
@@ -96,10 +83,7 @@ where
             let Some(sample) = self
                 .port
                 .receive()
-                .map_err(|error| ReceiveError::Transport {
-                    topic: self.topic.clone(),
-                    reason: format!("{error:?}"),
-                })?
+                .map_err(|error| self.intake.transport_error(error))?
             else {
                 return Ok(None);
             };
@@ -120,27 +104,15 @@ where
 
     /// What this subscriber has rejected so far.
     pub fn rejected(&self) -> RejectCounts {
-        self.rejected.get()
+        self.intake.rejected()
     }
 
     fn check(&self, sample: &Sample<IpcService, [H::Element], H>) -> Result<(), Rejection> {
         let header = sample.user_header();
-        if let Err(rejection) = header.validate_slice(sample.payload()) {
-            let mut counts = self.rejected.get();
-            counts.invalid += 1;
-            self.rejected.set(counts);
-            return Err(rejection);
-        }
-        if let Err(rejection) = self
-            .sequence_guard
-            .borrow_mut()
-            .check(sample.origin(), header.stamp().sequence)
-        {
-            let mut counts = self.rejected.get();
-            counts.stale += 1;
-            self.rejected.set(counts);
-            return Err(rejection);
-        }
-        Ok(())
+        self.intake.admit(
+            header.validate_slice(sample.payload()),
+            sample.origin(),
+            header.stamp().sequence,
+        )
     }
 }

@@ -1,28 +1,23 @@
 //! Subscriber of fixed-size messages, validating what it receives.
 
-use core::cell::{Cell, RefCell};
-
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::node::Node;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 
+use super::intake::Intake;
 use super::open::{data_service, event_service, port_error};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
 use crate::topics::TopicSpec;
-use crate::validate::{Message, Rejection, SequenceGuard};
+use crate::validate::{Message, Rejection};
 
 /// Receives `M` from one topic. Invalid or out-of-order samples are dropped and counted.
 #[derive(Debug)]
 pub struct Subscriber<M: Message + ZeroCopySend> {
     port: RawSubscriber<IpcService, M, ()>,
-    listener: Listener<IpcService>,
-    // Cells: receiving must work while a WaitSet borrows the listener.
-    sequence_guard: RefCell<SequenceGuard<UniquePublisherId>>,
-    rejected: Cell<RejectCounts>,
-    topic: String,
+    intake: Intake,
 }
 
 impl<M: Message + ZeroCopySend> Subscriber<M> {
@@ -35,27 +30,20 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
             .buffer_size(spec.subscriber_buffer.max(1))
             .create()
             .map_err(|error| port_error(spec, error))?;
-        let listener = events
-            .listener_builder()
-            .create()
-            .map_err(|error| port_error(spec, error))?;
         Ok(Self {
             port,
-            listener,
-            sequence_guard: RefCell::new(SequenceGuard::new(spec.max_publishers.max(1) * 2)),
-            rejected: Cell::new(RejectCounts::default()),
-            topic: spec.name.to_string(),
+            intake: Intake::open(&events, spec)?,
         })
     }
 
     /// The event listener to attach to a WaitSet.
     pub fn listener(&self) -> &Listener<IpcService> {
-        &self.listener
+        self.intake.listener()
     }
 
     /// Consumes pending wake-up events (call after waking, before receiving).
     pub fn clear_events(&self) {
-        let _ = self.listener.try_wait(|_| {});
+        self.intake.clear_events();
     }
 
     /// The next valid sample, copied out (messages are small); `None` when drained.
@@ -64,10 +52,7 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
             let Some(sample) = self
                 .port
                 .receive()
-                .map_err(|error| ReceiveError::Transport {
-                    topic: self.topic.clone(),
-                    reason: format!("{error:?}"),
-                })?
+                .map_err(|error| self.intake.transport_error(error))?
             else {
                 return Ok(None);
             };
@@ -90,26 +75,11 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
 
     /// What this subscriber has rejected so far.
     pub fn rejected(&self) -> RejectCounts {
-        self.rejected.get()
+        self.intake.rejected()
     }
 
     fn check(&self, origin: UniquePublisherId, message: &M) -> Result<(), Rejection> {
-        if let Err(rejection) = message.validate() {
-            let mut counts = self.rejected.get();
-            counts.invalid += 1;
-            self.rejected.set(counts);
-            return Err(rejection);
-        }
-        if let Err(rejection) = self
-            .sequence_guard
-            .borrow_mut()
-            .check(origin, message.stamp().sequence)
-        {
-            let mut counts = self.rejected.get();
-            counts.stale += 1;
-            self.rejected.set(counts);
-            return Err(rejection);
-        }
-        Ok(())
+        self.intake
+            .admit(message.validate(), origin, message.stamp().sequence)
     }
 }

@@ -195,37 +195,13 @@ impl Jumper {
         let centre = to_f64(pose.translation);
         let rotation = pose.rotation.as_dquat();
         let support_z = centre.z - self.lowest_offset_m(rotation);
-        let (heading, speed, angle, clamped, target) = match order {
-            LaunchOrder::Direct {
-                heading_rad,
-                speed_mps,
-                angle_rad,
-            } => (heading_rad, speed_mps, angle_rad, false, None),
-            LaunchOrder::Target(requested) => {
-                let t = clamp_to_terrain(terrain, requested);
-                let limits = HopLimits {
-                    min_speed_mps: cfg.min_launch_speed_mps,
-                    max_speed_mps: cfg.max_launch_speed_mps,
-                    min_angle_rad: cfg.min_launch_angle_rad,
-                    max_angle_rad: cfg.max_launch_angle_rad,
-                };
-                let plan = plan_hop(
-                    [centre.x, centre.y, support_z],
-                    [t[0], t[1], terrain.height_at(t[0], t[1])],
-                    cfg.launch_angle_rad,
-                    self.yaw_rad,
-                    &limits,
-                    gravity_mps2,
-                );
-                (
-                    plan.heading_rad,
-                    plan.launch_speed_mps,
-                    plan.launch_angle_rad,
-                    plan.clamped || t != requested,
-                    Some(requested),
-                )
-            }
-        };
+        let (heading, speed, angle, clamped, target) = self.resolve_order(
+            order,
+            cfg,
+            terrain,
+            [centre.x, centre.y, support_z],
+            gravity_mps2,
+        );
         // Set to the launch attitude: nose up by the launch angle along the heading.
         let launch_rot = quat_from_yaw_pitch_roll(heading, -angle, 0.0);
         let launch_pos = DVec3::new(
@@ -268,6 +244,50 @@ impl Jumper {
             apex_height_m: 0.0,
             flight_time_s: 0.0,
         });
+    }
+
+    /// Heading, speed and angle of a launch order, whether they were clamped (speed, angle or
+    /// a target off the terrain) and the requested target, from the support point
+    /// `support_m` under the body.
+    fn resolve_order(
+        &self,
+        order: LaunchOrder,
+        cfg: &JumperConfig,
+        terrain: &Heightfield,
+        support_m: [f64; 3],
+        gravity_mps2: f64,
+    ) -> (f64, f64, f64, bool, Option<[f64; 2]>) {
+        match order {
+            LaunchOrder::Direct {
+                heading_rad,
+                speed_mps,
+                angle_rad,
+            } => (heading_rad, speed_mps, angle_rad, false, None),
+            LaunchOrder::Target(requested) => {
+                let t = clamp_to_terrain(terrain, requested);
+                let limits = HopLimits {
+                    min_speed_mps: cfg.min_launch_speed_mps,
+                    max_speed_mps: cfg.max_launch_speed_mps,
+                    min_angle_rad: cfg.min_launch_angle_rad,
+                    max_angle_rad: cfg.max_launch_angle_rad,
+                };
+                let plan = plan_hop(
+                    support_m,
+                    [t[0], t[1], terrain.height_at(t[0], t[1])],
+                    cfg.launch_angle_rad,
+                    self.yaw_rad,
+                    &limits,
+                    gravity_mps2,
+                );
+                (
+                    plan.heading_rad,
+                    plan.launch_speed_mps,
+                    plan.launch_angle_rad,
+                    plan.clamped || t != requested,
+                    Some(requested),
+                )
+            }
+        }
     }
 
     /// Updates contact, apex and landing after one physics substep of `dt_s`.

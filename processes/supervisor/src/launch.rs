@@ -11,11 +11,12 @@ use hopnav_ipc::messages::{BodyStates, FrameTick, Heartbeat};
 use hopnav_ipc::namespace::{self, Namespace};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
+use iceoryx2::node::Node;
 use iceoryx2::prelude::WaitSetBuilder;
 
 use crate::LaunchError;
-use crate::fault_injector::FaultInjector;
-use crate::frame_loop::{FrameLoop, LoopEnd, SupervisorPorts};
+use crate::fault_injector::{FaultInjector, FaultRecord};
+use crate::frame_loop::{FrameLoop, LoopEnd, LoopStats, SupervisorPorts};
 use crate::mission::MissionObserver;
 use crate::mission_record::{Evaluation, MissionEvaluator, MissionRecord};
 use crate::report::RunReport;
@@ -77,15 +78,7 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         return Err(LaunchError::Interrupted);
     }
     crate::signals::wake_on_child_exit();
-    let stale = namespace::cleanup_dead_runs();
-    if !stale.dead_runs.is_empty() {
-        eprintln!(
-            "cleaned up {} dead earlier launch(es): {} stale node(s), {} file(s)",
-            stale.dead_runs.len(),
-            stale.removed_nodes,
-            stale.removed_files
-        );
-    }
+    let stale = clean_up_dead_runs();
 
     let run_id = options.run_id.clone().unwrap_or_else(namespace::new_run_id);
     // Before the run folder: a second launch with a live run id must not touch the first's.
@@ -101,121 +94,23 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
             Slot::new(name, process, tracker, frames)
         })
         .collect();
-
-    eprintln!(
-        "launch {run_id}: {} processes, {} frames at {} Hz{}, run folder {}",
-        slots.len(),
-        config.run.frames,
-        config.run.frame_rate_hz,
-        if config.run.lockstep {
-            " (lockstep)"
-        } else {
-            ""
-        },
-        run_dir.display()
-    );
+    announce(&run_id, slots.len(), config, &run_dir);
 
     let loop_started = Instant::now();
-    let ((frame_loop, fault_records), end, mission) = {
-        let node = namespace.create_node("supervisor")?;
-        let heartbeats = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT)?;
-        let step_publishers = slots
-            .iter()
-            .map(|slot| Publisher::<FrameTick>::open(&node, &topics::step(&slot.name)))
-            .collect::<Result<Vec<_>, _>>()?;
-        let waitset = WaitSetBuilder::new()
-            .create::<IpcService>()
-            .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
-        let guard = waitset
-            .attach_notification(heartbeats.listener())
-            .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
-        // A small buffer: the status line only wants the newest state.
-        let truth = Subscriber::<BodyStates>::open(&node, &topics::BODY_STATES).ok();
-        let runs_mission = config
-            .processes
-            .get("planner")
-            .is_some_and(|planner| planner.enabled);
-        let mission = runs_mission
-            .then(|| MissionObserver::open(&node, config))
-            .flatten();
-        let specs = config
-            .faults
-            .specs()
-            .map_err(|error| LaunchError::Fault(error.to_string()))?;
-        let faults = FaultInjector::new(&specs, config.run.frame_rate_hz, |name| {
-            slots.iter().position(|slot| slot.name == name)
-        })
-        .map_err(LaunchError::Fault)?;
-        let relays = crate::relay::open_relays(&node, |name| {
-            slots.iter().position(|slot| slot.name == name)
-        });
-        let mut frame_loop = FrameLoop::new(
-            config.clone(),
-            slots,
-            SupervisorPorts {
-                step_publishers,
-                truth,
-                mission,
-                faults,
-                relays,
-            },
-            namespace.clone(),
-            options.executable.clone(),
-            config_path,
-            StatusLine::new(options.show_status),
-        );
-        let end = match frame_loop.start_all(&heartbeats, &waitset) {
-            Ok(()) => Ok(frame_loop.run(&heartbeats, &waitset)),
-            Err(error) => Err(error),
-        };
-        frame_loop.shutdown();
-        let end = match end {
-            Ok(end) => end,
-            Err(error) => {
-                // Start-up failed: the children are stopped; drop the supervisor's ports and
-                // remove what the namespace left before reporting the error.
-                drop(frame_loop);
-                drop(guard);
-                drop(waitset);
-                drop(heartbeats);
-                drop(node);
-                std::thread::sleep(Duration::from_millis(20));
-                namespace.remove_files_if_unused();
-                return Err(error);
-            }
-        };
-        // The mission's summary is taken now: its ports must die with the loop's, before the
-        // namespace clean-up below.
-        let mission = frame_loop.take_mission().map(|mut mission| {
-            mission.observe();
-            MissionSummary {
-                report: mission.report(),
-                record: mission.record(),
-            }
-        });
-        (frame_loop.into_stats(), end, mission)
-    };
+    let graph = run_graph(&options, &namespace, slots, config_path)?;
     let wall_time_s = loop_started.elapsed().as_secs_f64();
-    // Give the kernel a moment to let the last unmaps settle, then remove what iceoryx2
-    // keeps per namespace once every node of the run is gone.
-    std::thread::sleep(Duration::from_millis(20));
-    namespace.remove_files_if_unused();
-    let leftover_files = namespace.leftover_files().len();
+    let leftover_files = remove_namespace_files(&namespace);
 
+    let GraphRun {
+        stats: frame_loop,
+        fault_records,
+        end,
+        mission,
+    } = graph;
     let success = matches!(end, LoopEnd::Completed | LoopEnd::MissionEnded(_));
     let interrupted = end == LoopEnd::Interrupted;
     let outcome = outcome_text(&end);
-    let mut mission_report = mission.as_ref().map(|mission| mission.report.clone());
-    let mut evaluation = Evaluation::default();
-    if let Some(mission) = &mission {
-        write_rover_track(&run_dir, &mission.record.rover_track_m);
-        if let Some(evaluator) = &options.evaluator {
-            evaluation = evaluator.evaluate(config, &mission.report, &mission.record, &run_dir);
-        }
-    }
-    if let Some(report) = mission_report.as_mut() {
-        report.evaluation = evaluation.fields;
-    }
+    let (mission_report, evaluation) = evaluate_mission(&options, mission.as_ref(), &run_dir);
     let mut end_to_end = frame_loop.end_to_end_ns.clone();
     let report = RunReport {
         run_id: run_id.clone(),
@@ -256,6 +151,181 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         interrupted,
         mission_record: mission.map(|mission| mission.record),
     })
+}
+
+/// Once every node of the run is gone: gives the kernel a moment to let the last unmaps
+/// settle, then removes what iceoryx2 keeps per namespace; returns how many files are left.
+fn remove_namespace_files(namespace: &Namespace) -> usize {
+    std::thread::sleep(Duration::from_millis(20));
+    namespace.remove_files_if_unused();
+    namespace.leftover_files().len()
+}
+
+/// Removes what launches that died left behind (their nodes and files), saying so.
+fn clean_up_dead_runs() -> namespace::StaleCleanup {
+    let stale = namespace::cleanup_dead_runs();
+    if !stale.dead_runs.is_empty() {
+        eprintln!(
+            "cleaned up {} dead earlier launch(es): {} stale node(s), {} file(s)",
+            stale.dead_runs.len(),
+            stale.removed_nodes,
+            stale.removed_files
+        );
+    }
+    stale
+}
+
+/// The one line that says what is about to run and where it writes.
+fn announce(run_id: &str, process_count: usize, config: &HopnavConfig, run_dir: &Path) {
+    eprintln!(
+        "launch {run_id}: {} processes, {} frames at {} Hz{}, run folder {}",
+        process_count,
+        config.run.frames,
+        config.run.frame_rate_hz,
+        if config.run.lockstep {
+            " (lockstep)"
+        } else {
+            ""
+        },
+        run_dir.display()
+    );
+}
+
+/// What a run of the graph left once the supervisor's ports were closed.
+struct GraphRun {
+    stats: LoopStats,
+    fault_records: Vec<FaultRecord>,
+    end: LoopEnd,
+    mission: Option<MissionSummary>,
+}
+
+/// Opens the supervisor's ports, starts every child, runs the frame loop to its end and
+/// shuts the graph down. Every port of the supervisor is closed on return, so the namespace
+/// can be cleaned up; a start-up failure cleans it up here and is returned.
+fn run_graph(
+    options: &LaunchOptions,
+    namespace: &Namespace,
+    slots: Vec<Slot>,
+    config_path: PathBuf,
+) -> Result<GraphRun, LaunchError> {
+    let config = &options.config;
+    let node = namespace.create_node("supervisor")?;
+    let heartbeats = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT)?;
+    let step_publishers = slots
+        .iter()
+        .map(|slot| Publisher::<FrameTick>::open(&node, &topics::step(&slot.name)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let waitset = WaitSetBuilder::new()
+        .create::<IpcService>()
+        .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
+    let guard = waitset
+        .attach_notification(heartbeats.listener())
+        .map_err(|error| LaunchError::Wait(format!("{error:?}")))?;
+    let ports = open_ports(&node, config, &slots, step_publishers)?;
+    let mut frame_loop = FrameLoop::new(
+        config.clone(),
+        slots,
+        ports,
+        namespace.clone(),
+        options.executable.clone(),
+        config_path,
+        StatusLine::new(options.show_status),
+    );
+    let end = match frame_loop.start_all(&heartbeats, &waitset) {
+        Ok(()) => Ok(frame_loop.run(&heartbeats, &waitset)),
+        Err(error) => Err(error),
+    };
+    frame_loop.shutdown();
+    let end = match end {
+        Ok(end) => end,
+        Err(error) => {
+            // Start-up failed: the children are stopped; drop the supervisor's ports and
+            // remove what the namespace left before reporting the error.
+            drop(frame_loop);
+            drop(guard);
+            drop(waitset);
+            drop(heartbeats);
+            drop(node);
+            std::thread::sleep(Duration::from_millis(20));
+            namespace.remove_files_if_unused();
+            return Err(error);
+        }
+    };
+    // The mission's summary is taken now: its ports must die with the loop's, before the
+    // namespace clean-up below.
+    let mission = frame_loop.take_mission().map(|mut mission| {
+        mission.observe();
+        MissionSummary {
+            report: mission.report(),
+            record: mission.record(),
+        }
+    });
+    let (stats, fault_records) = frame_loop.into_stats();
+    Ok(GraphRun {
+        stats,
+        fault_records,
+        end,
+        mission,
+    })
+}
+
+/// The supervisor's ports besides its heartbeat subscriber: the step publishers (one a slot,
+/// already open), the truth for the status line, the mission observer when a planner runs,
+/// the fault injector and the relays.
+fn open_ports(
+    node: &Node<IpcService>,
+    config: &HopnavConfig,
+    slots: &[Slot],
+    step_publishers: Vec<Publisher<FrameTick>>,
+) -> Result<SupervisorPorts, LaunchError> {
+    // A small buffer: the status line only wants the newest state.
+    let truth = Subscriber::<BodyStates>::open(node, &topics::BODY_STATES).ok();
+    let runs_mission = config
+        .processes
+        .get("planner")
+        .is_some_and(|planner| planner.enabled);
+    let mission = runs_mission
+        .then(|| MissionObserver::open(node, config))
+        .flatten();
+    let specs = config
+        .faults
+        .specs()
+        .map_err(|error| LaunchError::Fault(error.to_string()))?;
+    let faults = FaultInjector::new(&specs, config.run.frame_rate_hz, |name| {
+        slots.iter().position(|slot| slot.name == name)
+    })
+    .map_err(LaunchError::Fault)?;
+    let relays =
+        crate::relay::open_relays(node, |name| slots.iter().position(|slot| slot.name == name));
+    Ok(SupervisorPorts {
+        step_publishers,
+        truth,
+        mission,
+        faults,
+        relays,
+    })
+}
+
+/// The mission's report with the evaluator's fields moved into it, and the rest of the evaluation;
+/// also writes the rover's true track into the run folder.
+fn evaluate_mission(
+    options: &LaunchOptions,
+    mission: Option<&MissionSummary>,
+    run_dir: &Path,
+) -> (Option<crate::mission_report::MissionReport>, Evaluation) {
+    let mut mission_report = mission.map(|mission| mission.report.clone());
+    let mut evaluation = Evaluation::default();
+    if let Some(mission) = mission {
+        write_rover_track(run_dir, &mission.record.rover_track_m);
+        if let Some(evaluator) = &options.evaluator {
+            evaluation =
+                evaluator.evaluate(&options.config, &mission.report, &mission.record, run_dir);
+        }
+    }
+    if let Some(report) = mission_report.as_mut() {
+        report.evaluation = std::mem::take(&mut evaluation.fields);
+    }
+    (mission_report, evaluation)
 }
 
 /// The enabled processes of `options`' config; an error names one this binary cannot run.

@@ -19,7 +19,7 @@ use crate::corners::{Corner, CornerConfig, CornerDetector};
 use crate::image::ImageView;
 use crate::klt::{KltConfig, KltTracker, TrackStatus};
 use crate::pyramid::{Pyramid, PyramidConfig};
-use crate::ransac::{Ransac, RansacConfig};
+use crate::ransac::Ransac;
 use crate::synthetic::{AffineWarp, BlobTexture, TwoViewScene, random_points_in_box};
 use crate::two_view::{EssentialProblem, HomographyProblem, TwoViewConfig, TwoViewEstimator};
 use nalgebra::{Isometry3, Point2, Vector3};
@@ -149,13 +149,64 @@ fn setup<E: fmt::Display>(e: E) -> BenchError {
     BenchError::Setup(e.to_string())
 }
 
-/// Runs the per-frame pipeline `config.iterations` times and reports per-stage timings.
-pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchError> {
-    if config.iterations == 0 {
-        return Err(BenchError::NoIterations);
+/// Per-iteration timings of each stage, microseconds.
+struct StageSamples {
+    pyramid: Vec<f64>,
+    klt: Vec<f64>,
+    corners: Vec<f64>,
+    two_view: Vec<f64>,
+    frame: Vec<f64>,
+    essential: Vec<f64>,
+    homography: Vec<f64>,
+}
+
+impl StageSamples {
+    fn with_capacity(n: usize) -> Self {
+        Self {
+            pyramid: Vec::with_capacity(n),
+            klt: Vec::with_capacity(n),
+            corners: Vec::with_capacity(n),
+            two_view: Vec::with_capacity(n),
+            frame: Vec::with_capacity(n),
+            essential: Vec::with_capacity(n),
+            homography: Vec::with_capacity(n),
+        }
     }
-    let (w, h) = (config.width, config.height);
-    // Dense texture: about one blob per 25 px².
+
+    /// The report's stages, in the report's order.
+    fn into_stages(mut self) -> Vec<StageTiming> {
+        vec![
+            stats("pyramid", &mut self.pyramid),
+            stats("klt", &mut self.klt),
+            stats("corners", &mut self.corners),
+            stats("two_view", &mut self.two_view),
+            stats("frame", &mut self.frame),
+            stats("essential_ransac", &mut self.essential),
+            stats("homography_ransac", &mut self.homography),
+        ]
+    }
+}
+
+/// The corners detected on the first frame's full-resolution level.
+fn first_corners(
+    detector: &mut CornerDetector,
+    prev: &Pyramid,
+    features: usize,
+) -> Result<Vec<Point2<f32>>, BenchError> {
+    let mut corners: Vec<Corner> = Vec::with_capacity(features);
+    detector
+        .detect(
+            prev.level(0).ok_or_else(|| setup("no level"))?,
+            &[],
+            &mut corners,
+        )
+        .map_err(setup)?;
+    Ok(corners.iter().map(|c| c.position_px).collect())
+}
+
+/// Two frames of a dense blob texture (about one blob per 25 px²), the second rotated by 1.5°
+/// and shifted.
+fn synthetic_frames(w: usize, h: usize) -> (Vec<u8>, Vec<u8>) {
     let texture = BlobTexture::random(w, h, (w * h / 25).max(50), 77);
     let warp = AffineWarp::rotation_about(
         1.5f64.to_radians(),
@@ -168,6 +219,38 @@ pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchErr
     let mut frame2 = vec![0u8; w * h];
     texture.render(w, h, &AffineWarp::identity(), &mut frame1);
     texture.render(w, h, &warp, &mut frame2);
+    (frame1, frame2)
+}
+
+/// Geometry input: a camera and a 3-D scene seen from two poses with as many
+/// correspondences as `features`.
+fn geometry_input(
+    w: usize,
+    h: usize,
+    features: usize,
+) -> Result<(PinholeCamera, TwoViewScene), BenchError> {
+    let camera = PinholeCamera::from_fov(
+        u32::try_from(w).map_err(setup)?,
+        u32::try_from(h).map_err(setup)?,
+        45f64.to_radians(),
+        45f64.to_radians(),
+    )
+    .map_err(setup)?;
+    let motion = Isometry3::new(Vector3::new(-0.5, 0.1, 0.3), Vector3::new(0.01, 0.03, 0.0));
+    let points = random_points_in_box(features * 2, 6.0, 5.0, 20.0, 3);
+    let mut scene = TwoViewScene::from_points(&camera, motion, &points, 0.5, 0.1, 4);
+    scene.x1_norm.truncate(features);
+    scene.x2_norm.truncate(features);
+    Ok((camera, scene))
+}
+
+/// Runs the per-frame pipeline `config.iterations` times and reports per-stage timings.
+pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchError> {
+    if config.iterations == 0 {
+        return Err(BenchError::NoIterations);
+    }
+    let (w, h) = (config.width, config.height);
+    let (frame1, frame2) = synthetic_frames(w, h);
     let view1 = ImageView::packed(&frame1, w, h).map_err(setup)?;
     let view2 = ImageView::packed(&frame2, w, h).map_err(setup)?;
 
@@ -183,61 +266,20 @@ pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchErr
     let mut detector = CornerDetector::new(w, h, corner_config).map_err(setup)?;
     let mut tracker = KltTracker::new(KltConfig::default(), config.features).map_err(setup)?;
     prev.build(&view1).map_err(setup)?;
-    let mut corners: Vec<Corner> = Vec::with_capacity(config.features);
-    detector
-        .detect(
-            prev.level(0).ok_or_else(|| setup("no level"))?,
-            &[],
-            &mut corners,
-        )
-        .map_err(setup)?;
-    let prev_px: Vec<Point2<f32>> = corners.iter().map(|c| c.position_px).collect();
+    let prev_px = first_corners(&mut detector, &prev, config.features)?;
     let mut next_px = vec![Point2::origin(); prev_px.len()];
     let mut status = vec![TrackStatus::Tracked; prev_px.len()];
     let mut survivors: Vec<Point2<f32>> = Vec::with_capacity(config.features);
     let mut new_corners: Vec<Corner> = Vec::with_capacity(config.features);
 
-    // Geometry input: a 3-D scene with as many correspondences as features.
-    let camera = PinholeCamera::from_fov(
-        u32::try_from(w).map_err(setup)?,
-        u32::try_from(h).map_err(setup)?,
-        45f64.to_radians(),
-        45f64.to_radians(),
-    )
-    .map_err(setup)?;
-    let motion = Isometry3::new(Vector3::new(-0.5, 0.1, 0.3), Vector3::new(0.01, 0.03, 0.0));
-    let points = random_points_in_box(config.features * 2, 6.0, 5.0, 20.0, 3);
-    let mut scene = TwoViewScene::from_points(&camera, motion, &points, 0.5, 0.1, 4);
-    scene.x1_norm.truncate(config.features);
-    scene.x2_norm.truncate(config.features);
+    let (camera, scene) = geometry_input(w, h, config.features)?;
     let mut two_view = TwoViewEstimator::new(TwoViewConfig::for_camera(&camera), config.features);
 
     let n = config.iterations;
-    let mut t_pyramid = Vec::with_capacity(n);
-    let mut t_klt = Vec::with_capacity(n);
-    let mut t_corners = Vec::with_capacity(n);
-    let mut t_two_view = Vec::with_capacity(n);
-    let mut t_frame = Vec::with_capacity(n);
-    let mut t_essential = Vec::with_capacity(n);
-    let mut t_homography = Vec::with_capacity(n);
+    let mut t = StageSamples::with_capacity(n);
     let tv = *two_view.config();
-    let ransac_config = RansacConfig {
-        threshold: tv.essential_threshold_px() / tv.focal_px,
-        confidence: tv.confidence,
-        max_iterations: tv.max_iterations,
-        min_iterations: 10,
-        local_optimization_steps: tv.local_optimization_steps,
-        seed: tv.seed,
-    };
-    let mut e_ransac = Ransac::new(ransac_config, config.features);
-    let mut h_ransac = Ransac::new(
-        RansacConfig {
-            threshold: tv.homography_threshold_px() / tv.focal_px,
-            max_iterations: tv.homography_max_iterations,
-            ..ransac_config
-        },
-        config.features,
-    );
+    let mut e_ransac = Ransac::new(tv.essential_ransac(), config.features);
+    let mut h_ransac = Ransac::new(tv.homography_ransac(), config.features);
     let e_problem = EssentialProblem {
         x1: &scene.x1_norm,
         x2: &scene.x2_norm,
@@ -279,33 +321,25 @@ pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchErr
         let _ = two_view.estimate(&scene.x1_norm, &scene.x2_norm, None);
         let end = Instant::now();
         let us = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e6;
-        t_pyramid.push(us(start, after_pyramid));
-        t_klt.push(us(after_pyramid, after_klt));
-        t_corners.push(us(after_klt, after_corners));
-        t_two_view.push(us(after_corners, end));
-        t_frame.push(us(start, end));
+        t.pyramid.push(us(start, after_pyramid));
+        t.klt.push(us(after_pyramid, after_klt));
+        t.corners.push(us(after_klt, after_corners));
+        t.two_view.push(us(after_corners, end));
+        t.frame.push(us(start, end));
         let a = Instant::now();
         let _ = e_ransac.run(&e_problem);
         let b = Instant::now();
         let _ = h_ransac.run(&h_problem);
         let c = Instant::now();
-        t_essential.push(us(a, b));
-        t_homography.push(us(b, c));
+        t.essential.push(us(a, b));
+        t.homography.push(us(b, c));
     }
     Ok(BenchReport {
         config: *config,
         detected: prev_px.len(),
         tracked,
         correspondences: scene.x1_norm.len(),
-        stages: vec![
-            stats("pyramid", &mut t_pyramid),
-            stats("klt", &mut t_klt),
-            stats("corners", &mut t_corners),
-            stats("two_view", &mut t_two_view),
-            stats("frame", &mut t_frame),
-            stats("essential_ransac", &mut t_essential),
-            stats("homography_ransac", &mut t_homography),
-        ],
+        stages: t.into_stages(),
     })
 }
 

@@ -36,9 +36,14 @@
 //! }
 //! ```
 
-use crate::pyramid::{PaddedPlane, Pyramid};
-use crate::simd::{F4, LANES};
+mod window;
+
+use crate::pyramid::Pyramid;
+use crate::simd::LANES;
 use nalgebra::{Point2, Vector2};
+use window::{
+    sample_window_lanes, sample_window_strided, sampled_mismatch, template_from_padded, window_fits,
+};
 
 /// Tracker settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,6 +111,20 @@ pub struct TrackStats {
     pub large_residual: usize,
     /// Non-finite inputs.
     pub invalid_input: usize,
+}
+
+impl TrackStats {
+    /// Counts one outcome.
+    fn count(&mut self, status: TrackStatus) {
+        match status {
+            TrackStatus::Tracked => self.tracked += 1,
+            TrackStatus::OutOfBounds => self.out_of_bounds += 1,
+            TrackStatus::LowTexture => self.low_texture += 1,
+            TrackStatus::ForwardBackwardFailed => self.forward_backward += 1,
+            TrackStatus::LargeResidual => self.large_residual += 1,
+            TrackStatus::InvalidInput => self.invalid_input += 1,
+        }
+    }
 }
 
 /// Error configuring the tracker or calling it.
@@ -285,6 +304,33 @@ impl KltTracker {
         use_initial_guess: bool,
         top_levels: &[u8],
     ) -> Result<TrackStats, KltError> {
+        self.check_inputs(prev, next, prev_px, next_px, status)?;
+        self.start_guesses(prev_px, next_px, use_initial_guess);
+        self.sort_in_raster_order(prev_px);
+        let mut stats = TrackStats::default();
+        for k in 0..self.order.len() {
+            let i = self.order[k] as usize;
+            let max_levels = top_levels
+                .get(i)
+                .map_or(usize::MAX, |&l| usize::from(l).max(1));
+            let (q, st) = self.track_forward_backward(prev, next, i, prev_px[i], max_levels);
+            next_px[i] = q;
+            status[i] = st;
+            stats.count(st);
+        }
+        Ok(stats)
+    }
+
+    /// Rejects slices of different lengths, more points than the capacity, pyramids that
+    /// differ, and a pyramid border too small for the window.
+    fn check_inputs(
+        &self,
+        prev: &Pyramid,
+        next: &Pyramid,
+        prev_px: &[Point2<f32>],
+        next_px: &[Point2<f32>],
+        status: &[TrackStatus],
+    ) -> Result<(), KltError> {
         if prev_px.len() != next_px.len() || prev_px.len() != status.len() {
             return Err(KltError::LengthMismatch {
                 prev: prev_px.len(),
@@ -311,6 +357,17 @@ impl KltTracker {
                 window_radius_px: self.config.window_radius_px,
             });
         }
+        Ok(())
+    }
+
+    /// Stores each point's forward guess (its given next position, or its start) and clears
+    /// its forward–backward error.
+    fn start_guesses(
+        &mut self,
+        prev_px: &[Point2<f32>],
+        next_px: &[Point2<f32>],
+        use_initial_guess: bool,
+    ) {
         self.guesses.clear();
         self.fb_errors_px.clear();
         for (i, &p) in prev_px.iter().enumerate() {
@@ -318,8 +375,11 @@ impl KltTracker {
             self.guesses.push(guess);
             self.fb_errors_px.push(f32::NAN);
         }
-        // Raster order (16-px bands) keeps consecutive windows in cache; results are
-        // independent of the order.
+    }
+
+    /// Orders the points in raster order (16-px bands), which keeps consecutive windows in
+    /// cache; results are independent of the order.
+    fn sort_in_raster_order(&mut self, prev_px: &[Point2<f32>]) {
         self.order.clear();
         self.order.extend(0..prev_px.len() as u32);
         self.order.sort_unstable_by_key(|&i| {
@@ -336,49 +396,43 @@ impl KltTracker {
             };
             (band, x)
         });
-        let mut stats = TrackStats::default();
-        for k in 0..self.order.len() {
-            let i = self.order[k] as usize;
-            let p = prev_px[i];
-            let guess = self.guesses[i];
-            let max_levels = top_levels
-                .get(i)
-                .map_or(usize::MAX, |&l| usize::from(l).max(1));
-            let (mut q, mut st) = self.track_point(prev, next, p, guess, true, max_levels);
-            if st == TrackStatus::Tracked
-                && let Some(limit) = self.config.forward_backward_max_px
-            {
-                // Mirror the forward guess so the backward pass gets no hint of the answer.
-                // (Seeding it at the start point over two levels, as VINS-Fusion does, is
-                // cheaper but measured weak here: occluded tracks 40 px off were kept.)
-                let back_guess = q - (guess - p);
-                let (back, back_status) =
-                    self.track_point(next, prev, q, back_guess, false, max_levels);
-                if back_status == TrackStatus::Tracked {
-                    let err = (back - p).norm();
-                    self.fb_errors_px[i] = err;
-                    if err > limit {
-                        st = TrackStatus::ForwardBackwardFailed;
-                    }
-                } else {
+    }
+
+    /// Tracks point `i` (at `p`) forward from its stored guess, then back to check the round
+    /// trip; a lost track reports its start where its end is not finite.
+    fn track_forward_backward(
+        &mut self,
+        prev: &Pyramid,
+        next: &Pyramid,
+        i: usize,
+        p: Point2<f32>,
+        max_levels: usize,
+    ) -> (Point2<f32>, TrackStatus) {
+        let guess = self.guesses[i];
+        let (mut q, mut st) = self.track_point(prev, next, p, guess, true, max_levels);
+        if st == TrackStatus::Tracked
+            && let Some(limit) = self.config.forward_backward_max_px
+        {
+            // Mirror the forward guess so the backward pass gets no hint of the answer.
+            // (Seeding it at the start point over two levels, as VINS-Fusion does, is
+            // cheaper but measured weak here: occluded tracks 40 px off were kept.)
+            let back_guess = q - (guess - p);
+            let (back, back_status) =
+                self.track_point(next, prev, q, back_guess, false, max_levels);
+            if back_status == TrackStatus::Tracked {
+                let err = (back - p).norm();
+                self.fb_errors_px[i] = err;
+                if err > limit {
                     st = TrackStatus::ForwardBackwardFailed;
                 }
-            }
-            if st != TrackStatus::Tracked && !(q.x.is_finite() && q.y.is_finite()) {
-                q = p;
-            }
-            next_px[i] = q;
-            status[i] = st;
-            match st {
-                TrackStatus::Tracked => stats.tracked += 1,
-                TrackStatus::OutOfBounds => stats.out_of_bounds += 1,
-                TrackStatus::LowTexture => stats.low_texture += 1,
-                TrackStatus::ForwardBackwardFailed => stats.forward_backward += 1,
-                TrackStatus::LargeResidual => stats.large_residual += 1,
-                TrackStatus::InvalidInput => stats.invalid_input += 1,
+            } else {
+                st = TrackStatus::ForwardBackwardFailed;
             }
         }
-        Ok(stats)
+        if st != TrackStatus::Tracked && !(q.x.is_finite() && q.y.is_finite()) {
+            q = p;
+        }
+        (q, st)
     }
 
     /// Tracks one point from `from` to `to`; `check_residual` applies the residual test.
@@ -531,579 +585,5 @@ impl KltTracker {
     }
 }
 
-/// Whether the bilinear window of radius `r + 1` around `p` (template plus its gradient
-/// margin) stays inside the padded plane.
-fn window_fits(plane: &PaddedPlane, p: Point2<f32>, r: usize) -> bool {
-    let r = r + 1;
-    if !(p.x.is_finite() && p.y.is_finite()) {
-        return false;
-    }
-    let pad = plane.pad() as f32;
-    let r = r as f32;
-    let lo = -pad + r;
-    // floor(p) + r + 1 must be < size + pad.
-    p.x >= lo
-        && p.y >= lo
-        && p.x < plane.width() as f32 + pad - r - 2.0
-        && p.y < plane.height() as f32 + pad - r - 2.0
-}
-
-/// `floor(v)` for `v` inside a padded plane (`v > -FLOOR_OFFSET`), without a libm call (the
-/// baseline x86-64 target has no `roundss`).
-#[inline]
-fn fast_floor(v: f32) -> f32 {
-    const FLOOR_OFFSET: f32 = 4096.0;
-    ((v + FLOOR_OFFSET) as i32) as f32 - FLOOR_OFFSET
-}
-
-/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]):
-/// the reference of [`sample_window_strided`].
 #[cfg(test)]
-fn sample_window(plane: &PaddedPlane, p: Point2<f32>, r: usize, out: &mut [f32]) {
-    let n = 2 * r + 1;
-    let fx = fast_floor(p.x);
-    let fy = fast_floor(p.y);
-    let (a, b) = (p.x - fx, p.y - fy);
-    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
-    let x0 = fx as isize - r as isize;
-    let y0 = fy as isize - r as isize;
-    let stride = plane.stride();
-    let data = plane.data();
-    for (k, o_row) in out.chunks_exact_mut(n).enumerate() {
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + n + 1];
-        let row1 = &data[i0 + stride..i0 + stride + n + 1];
-        for ((((o, &p00), &p01), &p10), &p11) in o_row
-            .iter_mut()
-            .zip(&row0[..n])
-            .zip(&row0[1..])
-            .zip(&row1[..n])
-            .zip(&row1[1..])
-        {
-            *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
-        }
-    }
-}
-
-/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`]),
-/// into rows of `stride ≥ 2r+1` elements; the columns past `2r+1`
-/// are set to zero.
-fn sample_window_strided(
-    plane: &PaddedPlane,
-    p: Point2<f32>,
-    r: usize,
-    stride: usize,
-    out: &mut [f32],
-) {
-    let n = 2 * r + 1;
-    let fx = fast_floor(p.x);
-    let fy = fast_floor(p.y);
-    let (a, b) = (p.x - fx, p.y - fy);
-    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
-    let x0 = fx as isize - r as isize;
-    let y0 = fy as isize - r as isize;
-    let plane_stride = plane.stride();
-    let data = plane.data();
-    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + n + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + n + 1];
-        let (o_row, o_pad) = o_row.split_at_mut(n);
-        for ((((o, &p00), &p01), &p10), &p11) in o_row
-            .iter_mut()
-            .zip(&row0[..n])
-            .zip(&row0[1..])
-            .zip(&row1[..n])
-            .zip(&row1[1..])
-        {
-            *o = w00 * p00 + w01 * p01 + w10 * p10 + w11 * p11;
-        }
-        o_pad.fill(0.0);
-    }
-}
-
-/// Bilinear samples of the `(2r+1)²` window centred on `p` (caller checked [`window_fits`])
-/// into rows of `stride` elements, computed in whole lanes: row `k` gets `2r+1` rounded up to
-/// [`LANES`] samples (`stride` must be at least that); those past column `2r+1` are samples of
-/// the pixels further right (finite, to be masked by the caller), and any further columns are
-/// left as they were.
-fn sample_window_lanes(
-    plane: &PaddedPlane,
-    p: Point2<f32>,
-    r: usize,
-    stride: usize,
-    out: &mut [f32],
-) {
-    let n = 2 * r + 1;
-    let cols = n.next_multiple_of(LANES);
-    let fx = fast_floor(p.x);
-    let fy = fast_floor(p.y);
-    let (a, b) = (p.x - fx, p.y - fy);
-    let (w00, w01, w10, w11) = (
-        F4::splat((1.0 - a) * (1.0 - b)),
-        F4::splat(a * (1.0 - b)),
-        F4::splat((1.0 - a) * b),
-        F4::splat(a * b),
-    );
-    let x0 = fx as isize - r as isize;
-    let y0 = fy as isize - r as isize;
-    let plane_stride = plane.stride();
-    let data = plane.data();
-    for (k, o_row) in out.chunks_exact_mut(stride).take(n).enumerate() {
-        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and a row below the
-        // window's last, so the `cols + 1 ≤ n + LANES` elements read from the window's left
-        // edge stay inside `data` (at worst they run into the next row's left border).
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + cols + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + cols + 1];
-        for c in (0..cols).step_by(LANES) {
-            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
-                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
-            j.store(o_row, c);
-        }
-    }
-}
-
-/// `(Σ (I − J) gx, Σ (I − J) gy)` with `J` the bilinear `(2r+1)²` window of `plane` at `p`
-/// (caller checked [`window_fits`]): [`sample_window`] and [`mismatch`] in one pass, without
-/// writing the window.
-///
-/// `template`, `gx` and `gy` have rows of `stride` elements (a multiple of [`LANES`], at most
-/// `2r+1 + LANES − 1`), zero past column `2r+1`. Whole lanes are computed with one partial sum
-/// per lane, which the compiler keeps in SIMD registers; the padding columns read up to
-/// `LANES − 1` pixels past the window's right edge (still inside the padded plane: see below),
-/// and their zero gradients cancel them.
-fn sampled_mismatch(
-    plane: &PaddedPlane,
-    p: Point2<f32>,
-    r: usize,
-    stride: usize,
-    template: &[f32],
-    gx: &[f32],
-    gy: &[f32],
-) -> (f32, f32) {
-    let n = 2 * r + 1;
-    let fx = fast_floor(p.x);
-    let fy = fast_floor(p.y);
-    let (a, b) = (p.x - fx, p.y - fy);
-    let (w00, w01, w10, w11) = ((1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b);
-    let x0 = fx as isize - r as isize;
-    let y0 = fy as isize - r as isize;
-    let plane_stride = plane.stride();
-    let data = plane.data();
-    let (w00, w01, w10, w11) = (
-        F4::splat(w00),
-        F4::splat(w01),
-        F4::splat(w10),
-        F4::splat(w11),
-    );
-    let (mut sx, mut sy) = (F4::zero(), F4::zero());
-    for (k, ((t_row, x_row), y_row)) in template
-        .chunks_exact(stride)
-        .zip(gx.chunks_exact(stride))
-        .zip(gy.chunks_exact(stride))
-        .take(n)
-        .enumerate()
-    {
-        // [`window_fits`] keeps `floor(p) + r + 2` inside the padded row and two more rows
-        // below the window, so reading `stride + 1 ≤ n + LANES` elements from the window's
-        // left edge stays inside `data` (at worst it runs into the next row's left border,
-        // whose values the zero padding of the gradients cancels).
-        let i0 = plane.index(x0, y0 + k as isize);
-        let row0 = &data[i0..i0 + stride + 1];
-        let row1 = &data[i0 + plane_stride..i0 + plane_stride + stride + 1];
-        for c in (0..stride).step_by(LANES) {
-            let j = (w00 * F4::load(row0, c) + w01 * F4::load(row0, c + 1))
-                + (w10 * F4::load(row1, c) + w11 * F4::load(row1, c + 1));
-            let diff = F4::load(t_row, c) - j;
-            sx = sx + diff * F4::load(x_row, c);
-            sy = sy + diff * F4::load(y_row, c);
-        }
-    }
-    (sx.sum(), sy.sum())
-}
-
-/// Splits a `(n+2)²` window (rows of `padded_stride = stride + LANES` elements) into the inner
-/// `n²` template and its central-difference gradients, in rows of `stride = mask.len()`
-/// elements that are zero where `mask` is 0 (past column `n`); returns the structure tensor
-/// `(Σ gx², Σ gx gy, Σ gy²)`.
-fn template_from_padded(
-    padded: &[f32],
-    padded_stride: usize,
-    mask: &[f32],
-    template: &mut [f32],
-    gx: &mut [f32],
-    gy: &mut [f32],
-) -> (f32, f32, f32) {
-    let stride = mask.len();
-    let half = F4::splat(0.5);
-    let (mut xx, mut xy, mut yy) = (F4::zero(), F4::zero(), F4::zero());
-    for (k, ((t, x), y)) in template
-        .chunks_exact_mut(stride)
-        .zip(gx.chunks_exact_mut(stride))
-        .zip(gy.chunks_exact_mut(stride))
-        .enumerate()
-    {
-        let up = &padded[k * padded_stride..(k + 1) * padded_stride];
-        let mid = &padded[(k + 1) * padded_stride..(k + 2) * padded_stride];
-        let down = &padded[(k + 2) * padded_stride..(k + 3) * padded_stride];
-        for c in (0..stride).step_by(LANES) {
-            let m = F4::load(mask, c);
-            let tv = m * F4::load(mid, c + 1);
-            let xv = m * (half * (F4::load(mid, c + 2) - F4::load(mid, c)));
-            let yv = m * (half * (F4::load(down, c + 1) - F4::load(up, c + 1)));
-            tv.store(t, c);
-            xv.store(x, c);
-            yv.store(y, c);
-            xx = xx + xv * xv;
-            xy = xy + xv * yv;
-            yy = yy + yv * yv;
-        }
-    }
-    (xx.sum(), xy.sum(), yy.sum())
-}
-
-/// `(Σ (I − J) gx, Σ (I − J) gy)` of a sampled window (the reference of [`sampled_mismatch`]).
-#[cfg(test)]
-fn mismatch(template: &[f32], window: &[f32], gx: &[f32], gy: &[f32]) -> (f32, f32) {
-    let (mut sx, mut sy) = ([0.0f32; 8], [0.0f32; 8]);
-    let (ct, cw, cx, cy) = (
-        template.chunks_exact(8),
-        window.chunks_exact(8),
-        gx.chunks_exact(8),
-        gy.chunks_exact(8),
-    );
-    let (rt, rw, rx, ry) = (
-        ct.remainder(),
-        cw.remainder(),
-        cx.remainder(),
-        cy.remainder(),
-    );
-    for ((t, w), (x, y)) in ct.zip(cw).zip(cx.zip(cy)) {
-        for k in 0..8 {
-            let diff = t[k] - w[k];
-            sx[k] += diff * x[k];
-            sy[k] += diff * y[k];
-        }
-    }
-    let mut s = (sx.iter().sum::<f32>(), sy.iter().sum::<f32>());
-    for ((t, w), (x, y)) in rt.iter().zip(rw).zip(rx.iter().zip(ry)) {
-        let diff = t - w;
-        s.0 += diff * x;
-        s.1 += diff * y;
-    }
-    s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::corners::{CornerConfig, CornerDetector};
-    use crate::image::ImageView;
-    use crate::pyramid::PyramidConfig;
-    use crate::synthetic::{AffineWarp, BlobTexture};
-
-    const W: usize = 128;
-    const H: usize = 128;
-
-    fn pyramid_of(tex: &BlobTexture, warp: &AffineWarp) -> (Pyramid, Vec<u8>) {
-        let mut pixels = vec![0u8; W * H];
-        tex.render(W, H, warp, &mut pixels);
-        let mut pyr = Pyramid::new(W, H, PyramidConfig::default()).unwrap();
-        pyr.build(&ImageView::packed(&pixels, W, H).unwrap())
-            .unwrap();
-        (pyr, pixels)
-    }
-
-    fn corners_of(pyr: &Pyramid, max: usize) -> Vec<Point2<f32>> {
-        let config = CornerConfig {
-            max_features: max,
-            grid_cols: 4,
-            grid_rows: 4,
-            border_px: 12,
-            ..CornerConfig::default()
-        };
-        let mut det = CornerDetector::new(W, H, config).unwrap();
-        let mut out = Vec::new();
-        det.detect(pyr.level(0).unwrap(), &[], &mut out).unwrap();
-        out.iter().map(|c| c.position_px).collect()
-    }
-
-    /// Tracks corners through `warp`; returns (errors of tracked points, statuses).
-    fn run(warp: AffineWarp, config: KltConfig) -> (Vec<f32>, Vec<TrackStatus>) {
-        let tex = BlobTexture::random(W, H, 350, 21);
-        let (prev, _) = pyramid_of(&tex, &AffineWarp::identity());
-        let (next, _) = pyramid_of(&tex, &warp);
-        let pts = corners_of(&prev, 80);
-        assert!(pts.len() >= 60);
-        let mut out = vec![Point2::origin(); pts.len()];
-        let mut status = vec![TrackStatus::Tracked; pts.len()];
-        let mut klt = KltTracker::new(config, 200).unwrap();
-        klt.track(&prev, &next, &pts, &mut out, &mut status, false)
-            .unwrap();
-        let errors = pts
-            .iter()
-            .zip(&out)
-            .zip(&status)
-            .filter(|(_, s)| **s == TrackStatus::Tracked)
-            .map(|((p, q), _)| {
-                let (x, y) = warp.apply(f64::from(p.x), f64::from(p.y));
-                ((x - f64::from(q.x)).hypot(y - f64::from(q.y))) as f32
-            })
-            .collect();
-        (errors, status)
-    }
-
-    fn rms(v: &[f32]) -> f32 {
-        (v.iter().map(|e| e * e).sum::<f32>() / v.len() as f32).sqrt()
-    }
-
-    #[test]
-    fn fused_mismatch_matches_sample_then_mismatch() {
-        let tex = BlobTexture::random(W, H, 350, 21);
-        let (pyr, _) = pyramid_of(&tex, &AffineWarp::identity());
-        let plane = &pyr.level(0).unwrap().image;
-        // Every remainder of 2r+1 modulo LANES, including windows that end at the last column
-        // `window_fits` allows.
-        for r in [2usize, 3, 4, 5, 6] {
-            let n = 2 * r + 1;
-            let m = n.next_multiple_of(LANES);
-            let template: Vec<f32> = (0..n * n).map(|i| (i % 17) as f32 * 3.0).collect();
-            let gx: Vec<f32> = (0..n * n).map(|i| (i % 5) as f32 - 2.0).collect();
-            let gy: Vec<f32> = (0..n * n).map(|i| (i % 7) as f32 - 3.0).collect();
-            let strided = |v: &[f32]| {
-                let mut out = vec![0.0; n * m];
-                for k in 0..n {
-                    out[k * m..k * m + n].copy_from_slice(&v[k * n..k * n + n]);
-                }
-                out
-            };
-            let (ts, xs, ys) = (strided(&template), strided(&gx), strided(&gy));
-            let edge = W as f32 + plane.pad() as f32 - r as f32 - 3.01;
-            for p in [
-                Point2::new(40.3f32, 50.7),
-                Point2::new(-3.5, 7.25),
-                Point2::new(9.0, 9.0),
-                Point2::new(edge, edge),
-            ] {
-                assert!(window_fits(plane, p, r));
-                let mut window = vec![0.0; n * n];
-                sample_window(plane, p, r, &mut window);
-                let (ax, ay) = mismatch(&template, &window, &gx, &gy);
-                let (bx, by) = sampled_mismatch(plane, p, r, m, &ts, &xs, &ys);
-                assert!((ax - bx).abs() <= 1e-3 * ax.abs().max(1.0), "{ax} {bx}");
-                assert!((ay - by).abs() <= 1e-3 * ay.abs().max(1.0), "{ay} {by}");
-                let mut window_strided = vec![1.0; n * m];
-                sample_window_strided(plane, p, r, m, &mut window_strided);
-                assert_eq!(window_strided, strided(&window));
-                let mut window_lanes = vec![1.0; n * (m + LANES)];
-                sample_window_lanes(plane, p, r, m + LANES, &mut window_lanes);
-                for k in 0..n {
-                    let row = &window_lanes[k * (m + LANES)..(k + 1) * (m + LANES)];
-                    for (c, v) in row.iter().enumerate() {
-                        if c < n {
-                            assert!((v - window[k * n + c]).abs() <= 1e-4, "{v} {c}");
-                        } else if c >= m {
-                            assert_eq!(*v, 1.0, "column {c} past the lanes was written");
-                        } else {
-                            assert!(v.is_finite());
-                        }
-                    }
-                }
-                // As `refine_level` uses it: the template's (n+2)² window where `window_fits`
-                // (which leaves a one-pixel margin for it) just passes.
-                let n2 = n + 2;
-                let mut padded = vec![0.0; n2 * (m + LANES)];
-                sample_window_lanes(plane, p, r + 1, m + LANES, &mut padded);
-                let mut reference = vec![0.0; n2 * n2];
-                sample_window(plane, p, r + 1, &mut reference);
-                for k in 0..n2 {
-                    for c in 0..n2 {
-                        let (got, want) = (padded[k * (m + LANES) + c], reference[k * n2 + c]);
-                        assert!((got - want).abs() <= 1e-4, "{got} {want}");
-                    }
-                }
-            }
-        }
-        assert_eq!(fast_floor(-3.5), -4.0);
-        assert_eq!(fast_floor(2.0), 2.0);
-        assert_eq!(fast_floor(2.99), 2.0);
-    }
-
-    #[test]
-    fn template_and_tensor_match_scalar_central_differences() {
-        for r in [2usize, 3, 4, 5] {
-            let n = 2 * r + 1;
-            let m = n.next_multiple_of(LANES);
-            let ps = m + LANES;
-            let padded: Vec<f32> = (0..(n + 2) * ps)
-                .map(|i| {
-                    if i % ps < n + 2 {
-                        ((i * 37) % 101) as f32
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
-            let mask: Vec<f32> = (0..m).map(|c| if c < n { 1.0 } else { 0.0 }).collect();
-            let (mut t, mut gx, mut gy) = (vec![9.0; n * m], vec![9.0; n * m], vec![9.0; n * m]);
-            let (xx, xy, yy) = template_from_padded(&padded, ps, &mask, &mut t, &mut gx, &mut gy);
-            let at = |row: usize, col: usize| padded[row * ps + col];
-            let (mut exx, mut exy, mut eyy) = (0.0f64, 0.0f64, 0.0f64);
-            for k in 0..n {
-                for c in 0..m {
-                    let i = k * m + c;
-                    if c >= n {
-                        assert_eq!((t[i], gx[i], gy[i]), (0.0, 0.0, 0.0));
-                        continue;
-                    }
-                    let x = 0.5 * (at(k + 1, c + 2) - at(k + 1, c));
-                    let y = 0.5 * (at(k + 2, c + 1) - at(k, c + 1));
-                    assert_eq!((t[i], gx[i], gy[i]), (at(k + 1, c + 1), x, y));
-                    exx += f64::from(x * x);
-                    exy += f64::from(x * y);
-                    eyy += f64::from(y * y);
-                }
-            }
-            for (got, want) in [(xx, exx), (xy, exy), (yy, eyy)] {
-                assert!((f64::from(got) - want).abs() <= 1e-5 * want.abs().max(1.0));
-            }
-        }
-    }
-
-    #[test]
-    fn subpixel_shift_is_accurate() {
-        let (errors, status) = run(AffineWarp::translation(3.37, -2.61), KltConfig::default());
-        let tracked = errors.len();
-        assert!(tracked as f32 >= 0.9 * status.len() as f32, "{status:?}");
-        assert!(rms(&errors) < 0.05, "rms {}", rms(&errors));
-        assert!(errors.iter().all(|&e| e < 0.1), "{errors:?}");
-    }
-
-    #[test]
-    fn large_shift_uses_the_pyramid() {
-        let (errors, status) = run(AffineWarp::translation(-14.2, 9.6), KltConfig::default());
-        assert!(
-            errors.len() as f32 >= 0.7 * status.len() as f32,
-            "{status:?}"
-        );
-        assert!(rms(&errors) < 0.1, "rms {}", rms(&errors));
-    }
-
-    #[test]
-    fn small_rotation_is_tracked() {
-        let warp = AffineWarp::rotation_about(3f64.to_radians(), 64.0, 64.0, 1.0, 0.5);
-        let (errors, status) = run(warp, KltConfig::default());
-        assert!(
-            errors.len() as f32 >= 0.8 * status.len() as f32,
-            "{status:?}"
-        );
-        // A translational window model under rotation: ~0.1-0.2 px is the expected bias.
-        assert!(rms(&errors) < 0.25, "rms {}", rms(&errors));
-    }
-
-    #[test]
-    fn forward_backward_rejects_occluded_tracks() {
-        let tex = BlobTexture::random(W, H, 350, 21);
-        let (prev, _) = pyramid_of(&tex, &AffineWarp::identity());
-        let shift = AffineWarp::translation(2.3, 1.1);
-        let mut pixels = vec![0u8; W * H];
-        tex.render(W, H, &shift, &mut pixels);
-        // Occlude the right half of the next frame with a different texture.
-        let mut other = vec![0u8; W * H];
-        BlobTexture::random(W, H, 350, 999).render(W, H, &AffineWarp::identity(), &mut other);
-        for y in 0..H {
-            for x in W / 2..W {
-                pixels[y * W + x] = other[y * W + x];
-            }
-        }
-        let mut next = Pyramid::new(W, H, PyramidConfig::default()).unwrap();
-        next.build(&ImageView::packed(&pixels, W, H).unwrap())
-            .unwrap();
-        let pts = corners_of(&prev, 80);
-        let mut out = vec![Point2::origin(); pts.len()];
-        let mut status = vec![TrackStatus::Tracked; pts.len()];
-        let config = KltConfig {
-            max_mean_abs_residual: None,
-            ..KltConfig::default()
-        };
-        let mut klt = KltTracker::new(config, 200).unwrap();
-        let stats = klt
-            .track(&prev, &next, &pts, &mut out, &mut status, false)
-            .unwrap();
-        let mut bad_accepted = 0;
-        let mut good_total = 0;
-        let mut good_accepted = 0;
-        for ((p, q), s) in pts.iter().zip(&out).zip(&status) {
-            let (x, y) = shift.apply(f64::from(p.x), f64::from(p.y));
-            let err = (x - f64::from(q.x)).hypot(y - f64::from(q.y));
-            let occluded = p.x > (W / 2 + 10) as f32;
-            let clear = p.x + 12.0 < (W / 2) as f32;
-            // Windows straddling the occlusion edge can be consistently off by ~1 px; RANSAC's
-            // job. Judge only windows wholly on one side.
-            let straddles = (x - (W / 2) as f64).abs() < 9.0;
-            if *s == TrackStatus::Tracked && err > 1.0 && !straddles {
-                bad_accepted += 1;
-            }
-            if occluded {
-                assert_ne!(
-                    *s,
-                    TrackStatus::Tracked,
-                    "occluded track at {p:?} kept (err {err})"
-                );
-            }
-            if clear {
-                good_total += 1;
-                good_accepted += usize::from(*s == TrackStatus::Tracked);
-            }
-        }
-        assert_eq!(bad_accepted, 0);
-        assert!(stats.forward_backward + stats.low_texture + stats.out_of_bounds > 0);
-        assert!(good_accepted as f32 >= 0.85 * good_total as f32);
-        let fb = klt.last_forward_backward_errors_px();
-        assert_eq!(fb.len(), pts.len());
-    }
-
-    #[test]
-    fn initial_guess_and_border_and_errors() {
-        let tex = BlobTexture::random(W, H, 350, 21);
-        let (prev, _) = pyramid_of(&tex, &AffineWarp::identity());
-        let warp = AffineWarp::translation(30.0, 0.0);
-        let (next, _) = pyramid_of(&tex, &warp);
-        let pts = corners_of(&prev, 40);
-        // Predicted positions close to the truth make a large jump easy.
-        let mut out: Vec<_> = pts.iter().map(|p| Point2::new(p.x + 29.0, p.y)).collect();
-        let mut status = vec![TrackStatus::Tracked; pts.len()];
-        let mut klt = KltTracker::new(KltConfig::default(), 100).unwrap();
-        klt.track(&prev, &next, &pts, &mut out, &mut status, true)
-            .unwrap();
-        for ((p, q), s) in pts.iter().zip(&out).zip(&status) {
-            if p.x + 30.0 < (W - 10) as f32 {
-                assert_eq!(*s, TrackStatus::Tracked, "{p:?}");
-                assert!((q.x - p.x - 30.0).abs() < 0.1);
-            } else if p.x + 30.0 > W as f32 + 1.0 {
-                assert_ne!(*s, TrackStatus::Tracked);
-            }
-        }
-        let nan = [Point2::new(f32::NAN, 1.0)];
-        let mut o = [Point2::origin()];
-        let mut s = [TrackStatus::Tracked];
-        klt.track(&prev, &next, &nan, &mut o, &mut s, false)
-            .unwrap();
-        assert_eq!(s[0], TrackStatus::InvalidInput);
-        assert!(matches!(
-            klt.track(&prev, &next, &pts, &mut o, &mut s, false),
-            Err(KltError::LengthMismatch { .. })
-        ));
-        assert!(
-            KltTracker::new(
-                KltConfig {
-                    window_radius_px: 0,
-                    ..KltConfig::default()
-                },
-                1
-            )
-            .is_err()
-        );
-    }
-}
+mod tests;

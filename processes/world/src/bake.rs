@@ -68,36 +68,8 @@ pub fn bake_terrain_texture(world: &World) -> TerrainTexture {
     let [ox, oy] = hf.origin_m();
 
     // Centimetre-scale bump heights (for shading) and pebble albedo offsets.
-    let mut bump = vec![0f32; tw * th];
+    let mut bump = bump_heights(seed, cfg, texel, (tw, th));
     let mut pebble_albedo = vec![0f32; tw * th];
-    let bump_wl_m = 0.5;
-    let octaves = ((bump_wl_m / (2.0 * texel[0].max(texel[1])))
-        .log2()
-        .floor()
-        .max(0.0) as u32
-        + 1)
-    .min(8);
-    if cfg.bump_amplitude_m > 0.0 {
-        let s = derive_seed(seed, BUMP_STREAM);
-        par_rows(&mut bump, tw, |ty, row| {
-            let y = (ty as f64 + 0.5) * texel[1];
-            let mut acc = vec![0f64; row.len()];
-            let (x0, dx) = (0.5 * texel[0] / bump_wl_m, texel[0] / bump_wl_m);
-            fbm_row_add(
-                s,
-                x0,
-                dx,
-                y / bump_wl_m,
-                0..octaves,
-                0.5,
-                cfg.bump_amplitude_m,
-                &mut acc,
-            );
-            for (b, a) in row.iter_mut().zip(&acc) {
-                *b = *a as f32;
-            }
-        });
-    }
     splat_pebbles(
         seed,
         cfg,
@@ -109,26 +81,8 @@ pub fn bake_terrain_texture(world: &World) -> TerrainTexture {
         &mut pebble_albedo,
     );
 
-    // Coarse albedo octaves (16 m patches and 4 m … 0.5 m) on a grid every COARSE_STEP texels.
     let s_alb = derive_seed(seed, ALBEDO_STREAM);
-    let (cw, chh) = (tw / COARSE_STEP + 2, th / COARSE_STEP + 2);
-    let mut coarse = vec![0f64; cw * chh];
-    for cy in 0..chh {
-        for cx in 0..cw {
-            let xl = (cx * COARSE_STEP) as f64 * texel[0];
-            let yl = (cy * COARSE_STEP) as f64 * texel[1];
-            let patches = fbm(NoiseKind::Value, s_alb ^ 1, xl / 16.0, yl / 16.0, 2, 0.5);
-            let mid = fbm_range(
-                NoiseKind::Value,
-                s_alb,
-                xl / 4.0,
-                yl / 4.0,
-                0..COARSE_OCTAVES,
-                0.6,
-            );
-            coarse[cy * cw + cx] = 0.4 * patches + 0.5 * mid;
-        }
-    }
+    let (coarse, (cw, chh)) = coarse_albedo(s_alb, texel, (tw, th));
 
     let sun = light.sun_direction();
     let node_shadow = crate::shadows::terrain_shadow(hf, sun);
@@ -167,22 +121,9 @@ pub fn bake_terrain_texture(world: &World) -> TerrainTexture {
                 * (1.0 + cfg.macro_contrast * (low + fine) + f64::from(pebble_albedo[k])).max(0.05);
             // Shading: terrain normal tilted by the bump gradient.
             let n = hf.normal_at(x, y);
-            let kx0 = ty * tw + tx.saturating_sub(1);
-            let kx1 = ty * tw + (tx + 1).min(tw - 1);
-            let ky0 = ty.saturating_sub(1) * tw + tx;
-            let ky1 = (ty + 1).min(th - 1) * tw + tx;
-            let gxb = f64::from(bump[kx1] - bump[kx0]) / (2.0 * texel[0]);
-            let gyb = f64::from(bump[ky1] - bump[ky0]) / (2.0 * texel[1]);
-            let (mx, my, mz) = (n[0] - gxb * n[2], n[1] - gyb * n[2], n[2]);
-            let len = (mx * mx + my * my + mz * mz).sqrt();
-            let lambert = ((mx * sun[0] + my * sun[1] + mz * sun[2]) / len).max(0.0);
+            let lambert = bumped_lambert(n, &bump, (tx, ty), (tw, th), texel, sun);
             // Cast shadows: terrain (bilinear over nodes, soft edges) and rocks (per texel).
-            let (gx, gy) = (xl / spacing, yl / spacing);
-            let (i0, j0) = ((gx as usize).min(nx - 2), (gy as usize).min(hf.ny() - 2));
-            let (fx, fy) = ((gx - i0 as f64).min(1.0), (gy - j0 as f64).min(1.0));
-            let sh = |i: usize, j: usize| f64::from(node_shadow[j * nx + i]);
-            let terrain_sh = (sh(i0, j0) * (1.0 - fx) + sh(i0 + 1, j0) * fx) * (1.0 - fy)
-                + (sh(i0, j0 + 1) * (1.0 - fx) + sh(i0 + 1, j0 + 1) * fx) * fy;
+            let terrain_sh = node_shadow_at(&node_shadow, (nx, hf.ny()), spacing, (xl, yl));
             let shadow = terrain_sh.max(f64::from(rock_shadow[k]) / 255.0);
             let lit = lambert * (1.0 - shadow);
             let shade = (light.ambient + (1.0 - light.ambient) * lit) / flat_shade;
@@ -194,6 +135,110 @@ pub fn bake_terrain_texture(world: &World) -> TerrainTexture {
         origin_m: [ox, oy],
         texel_m: texel,
     }
+}
+
+/// Lambert factor of texel `(tx, ty)` for the terrain normal `n` tilted by the gradient of
+/// the bump heights.
+fn bumped_lambert(
+    n: [f64; 3],
+    bump: &[f32],
+    (tx, ty): (usize, usize),
+    (tw, th): (usize, usize),
+    texel: [f64; 2],
+    sun: [f64; 3],
+) -> f64 {
+    let kx0 = ty * tw + tx.saturating_sub(1);
+    let kx1 = ty * tw + (tx + 1).min(tw - 1);
+    let ky0 = ty.saturating_sub(1) * tw + tx;
+    let ky1 = (ty + 1).min(th - 1) * tw + tx;
+    let gxb = f64::from(bump[kx1] - bump[kx0]) / (2.0 * texel[0]);
+    let gyb = f64::from(bump[ky1] - bump[ky0]) / (2.0 * texel[1]);
+    let (mx, my, mz) = (n[0] - gxb * n[2], n[1] - gyb * n[2], n[2]);
+    let len = (mx * mx + my * my + mz * mz).sqrt();
+    ((mx * sun[0] + my * sun[1] + mz * sun[2]) / len).max(0.0)
+}
+
+/// The terrain's cast shadow at `(xl, yl)` metres from the grid origin: the node shadows
+/// interpolated bilinearly (soft edges).
+fn node_shadow_at(
+    node_shadow: &[f32],
+    (nx, ny): (usize, usize),
+    spacing: f64,
+    (xl, yl): (f64, f64),
+) -> f64 {
+    let (gx, gy) = (xl / spacing, yl / spacing);
+    let (i0, j0) = ((gx as usize).min(nx - 2), (gy as usize).min(ny - 2));
+    let (fx, fy) = ((gx - i0 as f64).min(1.0), (gy - j0 as f64).min(1.0));
+    let sh = |i: usize, j: usize| f64::from(node_shadow[j * nx + i]);
+    (sh(i0, j0) * (1.0 - fx) + sh(i0 + 1, j0) * fx) * (1.0 - fy)
+        + (sh(i0, j0 + 1) * (1.0 - fx) + sh(i0 + 1, j0 + 1) * fx) * fy
+}
+
+/// Centimetre-scale bump heights (for shading), one a texel of the `tw`×`th` atlas.
+fn bump_heights(
+    seed: u64,
+    cfg: &TextureConfig,
+    texel: [f64; 2],
+    (tw, th): (usize, usize),
+) -> Vec<f32> {
+    let mut bump = vec![0f32; tw * th];
+    let bump_wl_m = 0.5;
+    let octaves = ((bump_wl_m / (2.0 * texel[0].max(texel[1])))
+        .log2()
+        .floor()
+        .max(0.0) as u32
+        + 1)
+    .min(8);
+    if cfg.bump_amplitude_m > 0.0 {
+        let s = derive_seed(seed, BUMP_STREAM);
+        par_rows(&mut bump, tw, |ty, row| {
+            let y = (ty as f64 + 0.5) * texel[1];
+            let mut acc = vec![0f64; row.len()];
+            let (x0, dx) = (0.5 * texel[0] / bump_wl_m, texel[0] / bump_wl_m);
+            fbm_row_add(
+                s,
+                x0,
+                dx,
+                y / bump_wl_m,
+                0..octaves,
+                0.5,
+                cfg.bump_amplitude_m,
+                &mut acc,
+            );
+            for (b, a) in row.iter_mut().zip(&acc) {
+                *b = *a as f32;
+            }
+        });
+    }
+    bump
+}
+
+/// Coarse albedo octaves (16 m patches and 4 m … 0.5 m) on a grid every `COARSE_STEP`
+/// texels (one row and column beyond the atlas); returns the grid and its size.
+fn coarse_albedo(
+    s_alb: u64,
+    texel: [f64; 2],
+    (tw, th): (usize, usize),
+) -> (Vec<f64>, (usize, usize)) {
+    let (cw, chh) = (tw / COARSE_STEP + 2, th / COARSE_STEP + 2);
+    let mut coarse = vec![0f64; cw * chh];
+    for cy in 0..chh {
+        for cx in 0..cw {
+            let xl = (cx * COARSE_STEP) as f64 * texel[0];
+            let yl = (cy * COARSE_STEP) as f64 * texel[1];
+            let patches = fbm(NoiseKind::Value, s_alb ^ 1, xl / 16.0, yl / 16.0, 2, 0.5);
+            let mid = fbm_range(
+                NoiseKind::Value,
+                s_alb,
+                xl / 4.0,
+                yl / 4.0,
+                0..COARSE_OCTAVES,
+                0.6,
+            );
+            coarse[cy * cw + cx] = 0.4 * patches + 0.5 * mid;
+        }
+    }
+    (coarse, (cw, chh))
 }
 
 /// Pebbles: small domes added to the bump map with a per-pebble albedo offset.

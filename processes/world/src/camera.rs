@@ -60,7 +60,8 @@ impl CameraConfig {
         if let Some(v) = self.vfov_rad {
             Interval::left_open(0.0, 3.0).check(prefix, "vfov_rad", v)?;
         }
-        Interval::closed(0.001, 10.0).check(prefix, "near_m", self.near_m)
+        Interval::closed(0.001, 10.0).check(prefix, "near_m", self.near_m)?;
+        Ok(())
     }
 }
 

@@ -28,6 +28,16 @@ pub enum ConfigError {
     },
 }
 
+impl From<hopnav_config::range::OutOfRange> for ConfigError {
+    fn from(rejected: hopnav_config::range::OutOfRange) -> Self {
+        Self::OutOfRange {
+            key: rejected.key,
+            range: rejected.range,
+            value: rejected.value,
+        }
+    }
+}
+
 /// Building a [`World`](crate::World) or a [`RenderScene`](crate::raster::RenderScene) failed.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum WorldError {

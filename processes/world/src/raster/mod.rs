@@ -73,7 +73,8 @@ impl RenderConfig {
     /// Checks the values; errors name `prefix.field`.
     pub fn validate(&self, prefix: &str) -> Result<(), ConfigError> {
         Interval::closed(0.0, 64.0).check(prefix, "noise_sigma_dn", self.noise_sigma_dn)?;
-        Interval::closed(0.0, 16.0).check(prefix, "lod_error_px", self.lod_error_px)
+        Interval::closed(0.0, 16.0).check(prefix, "lod_error_px", self.lod_error_px)?;
+        Ok(())
     }
 }
 
@@ -169,44 +170,14 @@ impl Renderer {
         out: &mut [u8],
         stride: usize,
     ) -> Result<RenderStats, RenderError> {
-        let (w, h) = (
-            self.camera.width_px as usize,
-            self.camera.height_px as usize,
-        );
-        if stride < w {
-            return Err(RenderError::StrideTooSmall {
-                stride_bytes: stride,
-                width_px: w,
-            });
-        }
-        let needed = self.required_len(stride);
-        if out.len() < needed {
-            return Err(RenderError::BufferTooSmall {
-                needed_bytes: needed,
-                got_bytes: out.len(),
-            });
-        }
-        let t = &world_from_camera.translation.vector;
-        let q = world_from_camera.rotation.coords;
-        if !(t.iter().all(|v| v.is_finite()) && q.iter().all(|v| v.is_finite())) {
-            return Err(RenderError::NonFinitePose);
-        }
+        let (w, h) = self.check_target(world_from_camera, out.len(), stride)?;
         self.prepare(scene);
 
         self.zbuf.fill(0.0);
         for row in 0..h {
             out[row * stride..row * stride + w].fill(self.cfg.sky_dn);
         }
-        let cam = &self.camera;
-        let frame = Frame {
-            fx: cam.fx_px as f32,
-            fy: cam.fy_px as f32,
-            cx: cam.cx_px as f32,
-            cy: cam.cy_px as f32,
-            width: w as f32,
-            height: h as f32,
-            near: cam.near_m as f32,
-        };
+        let frame = self.frame((w, h));
         let view = View::new(world_from_camera, &frame);
         let proj = Projector {
             fx: frame.fx,
@@ -218,31 +189,7 @@ impl Renderer {
         let focal = frame.fx.max(frame.fy);
         let mut stats = RenderStats::default();
 
-        // LOD of every chunk (neighbours are needed for stitching), then the visible ones.
-        // The coarsest step whose vertical error projects below `lod_error_px` at the chunk's
-        // nearest point, and whose cells stay under a quarter of that distance (so one mip
-        // level per triangle stays right).
-        let tau = self.cfg.lod_error_px as f32;
-        self.lod.clear();
-        self.order.clear();
-        for (k, ch) in scene.chunks.iter().enumerate() {
-            let d = view.box_distance(ch.min, ch.max);
-            let mut l = 0u8;
-            while l < ch.max_lod {
-                let next = usize::from(l + 1);
-                let cell_m = (1u32 << next) as f32 * scene.spacing;
-                if cell_m > 0.25 * d || focal * ch.lod_error[next] > tau * d {
-                    break;
-                }
-                l += 1;
-            }
-            self.lod.push(l);
-            if view.box_visible(ch.min, ch.max) {
-                self.order.push((d, k as u32));
-            }
-        }
-        self.order
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.choose_lods(scene, &view, focal);
 
         let mut target = Target {
             zbuf: &mut self.zbuf,
@@ -295,19 +242,85 @@ impl Renderer {
                 &terrain_mat,
             );
         }
-        for m in &scene.markers {
-            let cv = m.corners.map(|p| ClipVertex {
-                p: view.to_camera(p),
-                ..Default::default()
-            });
-            let mat = FlatMaterial(m.value);
-            draw_clipped(&mut target, &mat, &proj, [&cv[0], &cv[1], &cv[2]]);
-            draw_clipped(&mut target, &mat, &proj, [&cv[0], &cv[2], &cv[3]]);
-            stats.triangles += 2;
-        }
+        stats.triangles += draw_markers(scene, &view, &proj, &mut target);
         let Target { zbuf, out, .. } = target;
         self.noise.apply(noise_key, zbuf, out, stride, w);
         Ok(stats)
+    }
+
+    /// The camera's intrinsics for an image of `w`×`h` pixels, in `f32`.
+    fn frame(&self, (w, h): (usize, usize)) -> Frame {
+        let cam = &self.camera;
+        Frame {
+            fx: cam.fx_px as f32,
+            fy: cam.fy_px as f32,
+            cx: cam.cx_px as f32,
+            cy: cam.cy_px as f32,
+            width: w as f32,
+            height: h as f32,
+            near: cam.near_m as f32,
+        }
+    }
+
+    /// The image size, once the output buffer is large enough for it at `stride` and the
+    /// pose is finite.
+    fn check_target(
+        &self,
+        world_from_camera: &Isometry3<f64>,
+        out_len: usize,
+        stride: usize,
+    ) -> Result<(usize, usize), RenderError> {
+        let (w, h) = (
+            self.camera.width_px as usize,
+            self.camera.height_px as usize,
+        );
+        if stride < w {
+            return Err(RenderError::StrideTooSmall {
+                stride_bytes: stride,
+                width_px: w,
+            });
+        }
+        let needed = self.required_len(stride);
+        if out_len < needed {
+            return Err(RenderError::BufferTooSmall {
+                needed_bytes: needed,
+                got_bytes: out_len,
+            });
+        }
+        let t = &world_from_camera.translation.vector;
+        let q = world_from_camera.rotation.coords;
+        if !(t.iter().all(|v| v.is_finite()) && q.iter().all(|v| v.is_finite())) {
+            return Err(RenderError::NonFinitePose);
+        }
+        Ok((w, h))
+    }
+
+    /// The level of detail of every chunk (neighbours are needed for stitching), then the
+    /// visible ones nearest first. The coarsest step whose vertical error projects below
+    /// `lod_error_px` at the chunk's nearest point, and whose cells stay under a quarter of
+    /// that distance (so one mip level per triangle stays right).
+    fn choose_lods(&mut self, scene: &RenderScene, view: &View, focal: f32) {
+        let tau = self.cfg.lod_error_px as f32;
+        self.lod.clear();
+        self.order.clear();
+        for (k, ch) in scene.chunks.iter().enumerate() {
+            let d = view.box_distance(ch.min, ch.max);
+            let mut l = 0u8;
+            while l < ch.max_lod {
+                let next = usize::from(l + 1);
+                let cell_m = (1u32 << next) as f32 * scene.spacing;
+                if cell_m > 0.25 * d || focal * ch.lod_error[next] > tau * d {
+                    break;
+                }
+                l += 1;
+            }
+            self.lod.push(l);
+            if view.box_visible(ch.min, ch.max) {
+                self.order.push((d, k as u32));
+            }
+        }
+        self.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     }
 
     /// Renders a stereo pair: the right camera sits `baseline_m` along the left camera's +x.
@@ -366,4 +379,20 @@ impl Renderer {
             stride,
         )
     }
+}
+
+/// Draws the scene's marker squares (two triangles each); returns the triangle count.
+fn draw_markers(scene: &RenderScene, view: &View, proj: &Projector, target: &mut Target) -> u32 {
+    let mut triangles = 0;
+    for m in &scene.markers {
+        let cv = m.corners.map(|p| ClipVertex {
+            p: view.to_camera(p),
+            ..Default::default()
+        });
+        let mat = FlatMaterial(m.value);
+        draw_clipped(target, &mat, proj, [&cv[0], &cv[1], &cv[2]]);
+        draw_clipped(target, &mat, proj, [&cv[0], &cv[2], &cv[3]]);
+        triangles += 2;
+    }
+    triangles
 }

@@ -161,6 +161,206 @@ fn dominant_axis(n: [f64; 3]) -> u8 {
     }
 }
 
+/// The terrain's chunks of up to `CHUNK_CELLS`² cells, row by row: each with its height
+/// range, bounding box, coarsest level of detail and its errors (no rocks yet).
+fn terrain_chunks(
+    heights: &[f32],
+    (nx, ny): (usize, usize),
+    spacing: f32,
+    origin: [f32; 2],
+) -> Vec<Chunk> {
+    let chunks_x = (nx - 1).div_ceil(CHUNK_CELLS);
+    let chunks_y = (ny - 1).div_ceil(CHUNK_CELLS);
+    let mut chunks = Vec::with_capacity(chunks_x * chunks_y);
+    for cy in 0..chunks_y {
+        for cx in 0..chunks_x {
+            let (i0, j0) = (cx * CHUNK_CELLS, cy * CHUNK_CELLS);
+            let ci = CHUNK_CELLS.min(nx - 1 - i0);
+            let cj = CHUNK_CELLS.min(ny - 1 - j0);
+            let (mut zmin, mut zmax) = (f32::INFINITY, f32::NEG_INFINITY);
+            for j in j0..=j0 + cj {
+                for i in i0..=i0 + ci {
+                    let z = heights[j * nx + i];
+                    zmin = zmin.min(z);
+                    zmax = zmax.max(z);
+                }
+            }
+            let mut max_lod = 0u8;
+            while (1usize << (max_lod + 1)) <= CHUNK_CELLS
+                && ci.is_multiple_of(1 << (max_lod + 1))
+                && cj.is_multiple_of(1 << (max_lod + 1))
+            {
+                max_lod += 1;
+            }
+            chunks.push(Chunk {
+                i0,
+                j0,
+                ci,
+                cj,
+                min: [
+                    origin[0] + i0 as f32 * spacing,
+                    origin[1] + j0 as f32 * spacing,
+                    zmin,
+                ],
+                max: [
+                    origin[0] + (i0 + ci) as f32 * spacing,
+                    origin[1] + (j0 + cj) as f32 * spacing,
+                    zmax,
+                ],
+                max_lod,
+                lod_error: lod_errors(heights, nx, (i0, j0), (ci, cj), max_lod),
+                rocks: (0, 0),
+            });
+        }
+    }
+    chunks
+}
+
+/// The rocks' draw data and where they are binned.
+struct RockGeometry {
+    rocks: Vec<RockInstance>,
+    vertices: Vec<RockVertex>,
+    faces: Vec<RockFace>,
+    /// Rock indices, chunk by chunk (each chunk's `rocks` range points in here).
+    chunk_rocks: Vec<u32>,
+}
+
+/// Rocks: vertices with baked shading, per-face texture projection axes, chunk bins. Each
+/// rock is binned by the chunk under its centre, whose box grows to hold it.
+fn rock_geometry(
+    world: &World,
+    (rock_faces_hi, rock_faces_lo, rock_vertex_count): (&[[u16; 3]], &[[u16; 3]], usize),
+    chunks: &mut [Chunk],
+    (chunks_x, chunks_y): (usize, usize),
+    (spacing, origin): (f32, [f32; 2]),
+) -> RockGeometry {
+    let cfg = world.config();
+    let light = &cfg.lighting;
+    let sun = light.sun_direction();
+    let flat_shade = light.ambient + (1.0 - light.ambient) * sun[2];
+    let mut rocks = Vec::with_capacity(world.rocks().len());
+    let mut rock_vertices = Vec::with_capacity(world.rocks().len() * rock_vertex_count);
+    let mut rock_faces =
+        Vec::with_capacity(world.rocks().len() * (rock_faces_hi.len() + rock_faces_lo.len()));
+    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); chunks.len()];
+    for (idx, rock) in world.rocks().iter().enumerate() {
+        let mesh = rock_mesh(rock);
+        let h = mix64(rock.shape_seed ^ 0x00A1_BED0);
+        let albedo = cfg.texture.rock_albedo_dn * (0.8 + 0.4 * crate::rng::unit_f64(h));
+        let first_vertex = rock_vertices.len() as u32;
+        for p in &mesh.positions_m {
+            rock_vertices.push(RockVertex {
+                p: p.map(|v| v as f32),
+            });
+        }
+        let first_axis = rock_faces.len() as u32;
+        for t in rock_faces_hi.iter().chain(rock_faces_lo) {
+            let n = face_normal(&mesh.positions_m, t.map(u32::from));
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-12);
+            let lambert = ((n[0] * sun[0] + n[1] * sun[1] + n[2] * sun[2]) / len).max(0.0);
+            let shade = (light.ambient + (1.0 - light.ambient) * lambert) / flat_shade;
+            rock_faces.push(RockFace {
+                axis: dominant_axis(n),
+                s: (albedo * shade / 128.0) as f32,
+            });
+        }
+        let radius = rock.bounding_radius_m().max(rock.height_m) * 1.3;
+        let center = [rock.center_m[0], rock.center_m[1], rock.center_m[2]];
+        rocks.push(RockInstance {
+            first_vertex,
+            first_axis,
+            center: center.map(|v| v as f32),
+            radius: radius as f32,
+            uv_offset: [
+                (h & 0xffff) as f32 / 65536.0 * 256.0,
+                ((h >> 16) & 0xffff) as f32 / 65536.0 * 256.0,
+            ],
+            top: [
+                rock.center_m[0] as f32,
+                rock.center_m[1] as f32,
+                rock.top_z_m() as f32,
+            ],
+            splat_value: albedo.round().clamp(0.0, 255.0) as u8,
+        });
+        // Bin by the chunk under the centre; grow that chunk's box to hold the rock.
+        let k = chunk_under(rock.center_m, (chunks_x, chunks_y), (spacing, origin));
+        bins[k].push(idx as u32);
+        grow_to_hold(&mut chunks[k], center.map(|v| v as f32), radius as f32);
+    }
+    let mut chunk_rocks = Vec::with_capacity(rocks.len());
+    for (c, bin) in chunks.iter_mut().zip(&bins) {
+        let start = chunk_rocks.len() as u32;
+        chunk_rocks.extend_from_slice(bin);
+        c.rocks = (start, chunk_rocks.len() as u32);
+    }
+    RockGeometry {
+        rocks,
+        vertices: rock_vertices,
+        faces: rock_faces,
+        chunk_rocks,
+    }
+}
+
+/// The (unnormalised) normal of triangle `t` of a mesh with vertices `positions_m`.
+fn face_normal(positions_m: &[[f64; 3]], t: [u32; 3]) -> [f64; 3] {
+    let [p0, p1, p2] = t.map(|k| positions_m[k as usize]);
+    let e1 = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
+    let e2 = [p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]];
+    [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ]
+}
+
+/// Index of the chunk under the horizontal position of `center_m` (clamped to the grid).
+fn chunk_under(
+    center_m: [f64; 3],
+    (chunks_x, chunks_y): (usize, usize),
+    (spacing, origin): (f32, [f32; 2]),
+) -> usize {
+    let ci = (((center_m[0] - f64::from(origin[0])) / f64::from(spacing)) as usize / CHUNK_CELLS)
+        .min(chunks_x - 1);
+    let cj = (((center_m[1] - f64::from(origin[1])) / f64::from(spacing)) as usize / CHUNK_CELLS)
+        .min(chunks_y - 1);
+    cj * chunks_x + ci
+}
+
+/// Grows the chunk's box to hold a sphere of radius `r` about `center`.
+fn grow_to_hold(c: &mut Chunk, center: [f32; 3], r: f32) {
+    c.min = [
+        c.min[0].min(center[0] - r),
+        c.min[1].min(center[1] - r),
+        c.min[2].min(center[2] - r),
+    ];
+    c.max = [
+        c.max[0].max(center[0] + r),
+        c.max[1].max(center[1] + r),
+        c.max[2].max(center[2] + r),
+    ];
+}
+
+/// The flat marker squares, as four corners each.
+fn marker_quads(world: &World) -> Vec<MarkerQuad> {
+    world
+        .markers()
+        .iter()
+        .map(|m| {
+            let [x, y, z] = m.center_m.map(|v| v as f32);
+            let s = m.half_size_m as f32;
+            MarkerQuad {
+                corners: [
+                    [x - s, y - s, z],
+                    [x + s, y - s, z],
+                    [x + s, y + s, z],
+                    [x - s, y + s, z],
+                ],
+                value: m.value_dn,
+            }
+        })
+        .collect()
+}
+
 impl RenderScene {
     /// Bakes textures and builds chunks and rock geometry for `world`.
     pub fn new(world: &World) -> Result<Self, WorldError> {
@@ -180,159 +380,29 @@ impl RenderScene {
             (tex.texel_m[1] / cfg.texture.detail_texel_m) as f32,
         ];
 
-        // Chunks.
-        let chunks_x = (nx - 1).div_ceil(CHUNK_CELLS);
-        let chunks_y = (ny - 1).div_ceil(CHUNK_CELLS);
-        let mut chunks = Vec::with_capacity(chunks_x * chunks_y);
-        for cy in 0..chunks_y {
-            for cx in 0..chunks_x {
-                let (i0, j0) = (cx * CHUNK_CELLS, cy * CHUNK_CELLS);
-                let ci = CHUNK_CELLS.min(nx - 1 - i0);
-                let cj = CHUNK_CELLS.min(ny - 1 - j0);
-                let (mut zmin, mut zmax) = (f32::INFINITY, f32::NEG_INFINITY);
-                for j in j0..=j0 + cj {
-                    for i in i0..=i0 + ci {
-                        let z = heights[j * nx + i];
-                        zmin = zmin.min(z);
-                        zmax = zmax.max(z);
-                    }
-                }
-                let mut max_lod = 0u8;
-                while (1usize << (max_lod + 1)) <= CHUNK_CELLS
-                    && ci.is_multiple_of(1 << (max_lod + 1))
-                    && cj.is_multiple_of(1 << (max_lod + 1))
-                {
-                    max_lod += 1;
-                }
-                chunks.push(Chunk {
-                    i0,
-                    j0,
-                    ci,
-                    cj,
-                    min: [
-                        origin[0] + i0 as f32 * spacing,
-                        origin[1] + j0 as f32 * spacing,
-                        zmin,
-                    ],
-                    max: [
-                        origin[0] + (i0 + ci) as f32 * spacing,
-                        origin[1] + (j0 + cj) as f32 * spacing,
-                        zmax,
-                    ],
-                    max_lod,
-                    lod_error: lod_errors(&heights, nx, (i0, j0), (ci, cj), max_lod),
-                    rocks: (0, 0),
-                });
-            }
-        }
+        let (chunks_x, chunks_y) = (
+            (nx - 1).div_ceil(CHUNK_CELLS),
+            (ny - 1).div_ceil(CHUNK_CELLS),
+        );
+        let mut chunks = terrain_chunks(&heights, (nx, ny), spacing, origin);
 
-        // Rocks: vertices with baked shading, per-face texture projection axes, chunk bins.
         let (rock_faces_hi, rock_vertex_count) = visible_faces(1);
         let (rock_faces_lo, _) = visible_faces(0);
-        let light = &cfg.lighting;
-        let sun = light.sun_direction();
-        let flat_shade = light.ambient + (1.0 - light.ambient) * sun[2];
-        let mut rocks = Vec::with_capacity(world.rocks().len());
-        let mut rock_vertices = Vec::with_capacity(world.rocks().len() * rock_vertex_count);
-        let mut rock_faces =
-            Vec::with_capacity(world.rocks().len() * (rock_faces_hi.len() + rock_faces_lo.len()));
-        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); chunks.len()];
-        for (idx, rock) in world.rocks().iter().enumerate() {
-            let mesh = rock_mesh(rock);
-            let face_normal = |t: &[u32; 3]| {
-                let [p0, p1, p2] = t.map(|k| mesh.positions_m[k as usize]);
-                let e1 = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
-                let e2 = [p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]];
-                [
-                    e1[1] * e2[2] - e1[2] * e2[1],
-                    e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0],
-                ]
-            };
-            let h = mix64(rock.shape_seed ^ 0x00A1_BED0);
-            let albedo = cfg.texture.rock_albedo_dn * (0.8 + 0.4 * crate::rng::unit_f64(h));
-            let first_vertex = rock_vertices.len() as u32;
-            for p in &mesh.positions_m {
-                rock_vertices.push(RockVertex {
-                    p: p.map(|v| v as f32),
-                });
-            }
-            let first_axis = rock_faces.len() as u32;
-            for t in rock_faces_hi.iter().chain(&rock_faces_lo) {
-                let n = face_normal(&t.map(u32::from));
-                let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-12);
-                let lambert = ((n[0] * sun[0] + n[1] * sun[1] + n[2] * sun[2]) / len).max(0.0);
-                let shade = (light.ambient + (1.0 - light.ambient) * lambert) / flat_shade;
-                rock_faces.push(RockFace {
-                    axis: dominant_axis(n),
-                    s: (albedo * shade / 128.0) as f32,
-                });
-            }
-            let radius = rock.bounding_radius_m().max(rock.height_m) * 1.3;
-            let center = [rock.center_m[0], rock.center_m[1], rock.center_m[2]];
-            rocks.push(RockInstance {
-                first_vertex,
-                first_axis,
-                center: center.map(|v| v as f32),
-                radius: radius as f32,
-                uv_offset: [
-                    (h & 0xffff) as f32 / 65536.0 * 256.0,
-                    ((h >> 16) & 0xffff) as f32 / 65536.0 * 256.0,
-                ],
-                top: [
-                    rock.center_m[0] as f32,
-                    rock.center_m[1] as f32,
-                    rock.top_z_m() as f32,
-                ],
-                splat_value: albedo.round().clamp(0.0, 255.0) as u8,
-            });
-            // Bin by the chunk under the centre; grow that chunk's box to hold the rock.
-            let ci = (((rock.center_m[0] - f64::from(origin[0])) / f64::from(spacing)) as usize
-                / CHUNK_CELLS)
-                .min(chunks_x - 1);
-            let cj = (((rock.center_m[1] - f64::from(origin[1])) / f64::from(spacing)) as usize
-                / CHUNK_CELLS)
-                .min(chunks_y - 1);
-            let k = cj * chunks_x + ci;
-            bins[k].push(idx as u32);
-            let c = &mut chunks[k];
-            let r = radius as f32;
-            let cz = center.map(|v| v as f32);
-            c.min = [
-                c.min[0].min(cz[0] - r),
-                c.min[1].min(cz[1] - r),
-                c.min[2].min(cz[2] - r),
-            ];
-            c.max = [
-                c.max[0].max(cz[0] + r),
-                c.max[1].max(cz[1] + r),
-                c.max[2].max(cz[2] + r),
-            ];
-        }
-        let mut chunk_rocks = Vec::with_capacity(rocks.len());
-        for (c, bin) in chunks.iter_mut().zip(&bins) {
-            let start = chunk_rocks.len() as u32;
-            chunk_rocks.extend_from_slice(bin);
-            c.rocks = (start, chunk_rocks.len() as u32);
-        }
+        let rock_geometry = rock_geometry(
+            world,
+            (&rock_faces_hi, &rock_faces_lo, rock_vertex_count),
+            &mut chunks,
+            (chunks_x, chunks_y),
+            (spacing, origin),
+        );
+        let (rocks, rock_vertices, rock_faces, chunk_rocks) = (
+            rock_geometry.rocks,
+            rock_geometry.vertices,
+            rock_geometry.faces,
+            rock_geometry.chunk_rocks,
+        );
 
-        let markers = world
-            .markers()
-            .iter()
-            .map(|m| {
-                let [x, y, z] = m.center_m.map(|v| v as f32);
-                let s = m.half_size_m as f32;
-                MarkerQuad {
-                    corners: [
-                        [x - s, y - s, z],
-                        [x + s, y - s, z],
-                        [x + s, y + s, z],
-                        [x - s, y + s, z],
-                    ],
-                    value: m.value_dn,
-                }
-            })
-            .collect();
+        let markers = marker_quads(world);
 
         Ok(Self {
             nx,

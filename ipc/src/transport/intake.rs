@@ -1,0 +1,91 @@
+//! What both subscribers keep beside their data port: the wake-up listener, the
+//! per-publisher sequence guard and the rejection counts, with the admission rule they share.
+
+use core::cell::{Cell, RefCell};
+use core::fmt::Debug;
+
+use iceoryx2::identifiers::UniquePublisherId;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::service::port_factory::event::PortFactory as EventService;
+
+use super::open::port_error;
+use super::{OpenError, ReceiveError, RejectCounts};
+use crate::IpcService;
+use crate::topics::TopicSpec;
+use crate::validate::{Rejection, SequenceGuard};
+
+/// A subscriber's listener, sequence guard and rejection counts.
+#[derive(Debug)]
+pub(super) struct Intake {
+    listener: Listener<IpcService>,
+    // Cells: receiving must work while a WaitSet borrows the listener.
+    sequence_guard: RefCell<SequenceGuard<UniquePublisherId>>,
+    rejected: Cell<RejectCounts>,
+    topic: String,
+}
+
+impl Intake {
+    /// Creates the listener on the topic's event service.
+    pub(super) fn open(
+        events: &EventService<IpcService>,
+        spec: &TopicSpec,
+    ) -> Result<Self, OpenError> {
+        let listener = events
+            .listener_builder()
+            .create()
+            .map_err(|error| port_error(spec, error))?;
+        Ok(Self {
+            listener,
+            sequence_guard: RefCell::new(SequenceGuard::new(spec.max_publishers.max(1) * 2)),
+            rejected: Cell::new(RejectCounts::default()),
+            topic: spec.name.to_string(),
+        })
+    }
+
+    /// The event listener to attach to a WaitSet.
+    pub(super) fn listener(&self) -> &Listener<IpcService> {
+        &self.listener
+    }
+
+    /// Consumes pending wake-up events.
+    pub(super) fn clear_events(&self) {
+        let _ = self.listener.try_wait(|_| {});
+    }
+
+    /// What has been rejected so far.
+    pub(super) fn rejected(&self) -> RejectCounts {
+        self.rejected.get()
+    }
+
+    /// The error for a failed receive on this topic.
+    pub(super) fn transport_error(&self, error: impl Debug) -> ReceiveError {
+        ReceiveError::Transport {
+            topic: self.topic.clone(),
+            reason: format!("{error:?}"),
+        }
+    }
+
+    /// Admits a sample whose own check gave `validity`, from publisher `origin` with
+    /// `sequence`: an invalid sample counts as invalid, a repeated or regressed sequence as
+    /// stale (checked only for valid samples).
+    pub(super) fn admit(
+        &self,
+        validity: Result<(), Rejection>,
+        origin: UniquePublisherId,
+        sequence: u64,
+    ) -> Result<(), Rejection> {
+        if let Err(rejection) = validity {
+            let mut counts = self.rejected.get();
+            counts.invalid += 1;
+            self.rejected.set(counts);
+            return Err(rejection);
+        }
+        if let Err(rejection) = self.sequence_guard.borrow_mut().check(origin, sequence) {
+            let mut counts = self.rejected.get();
+            counts.stale += 1;
+            self.rejected.set(counts);
+            return Err(rejection);
+        }
+        Ok(())
+    }
+}

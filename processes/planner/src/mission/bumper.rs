@@ -272,14 +272,7 @@ impl Bumper {
     /// the back-off distance, so the rover does not slow to a stop before it gets there).
     pub fn back_off_options(&self, pose: RoverPose) -> [([f64; 2], bool); 3] {
         let beyond_m = self.config.back_off_m + 0.5;
-        let reach_m = self.config.back_off_m + 0.3;
-        let along_track_m = self
-            .trail
-            .iter()
-            .rev()
-            .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
-            .copied()
-            .unwrap_or(pose.ahead_m(-beyond_m));
+        let along_track_m = self.track_behind(pose).unwrap_or(pose.ahead_m(-beyond_m));
         let mut options = [
             (along_track_m, false),
             // The track did not lead out last time (a corner swept into a rock): straight.
@@ -289,6 +282,17 @@ impl Bumper {
         ];
         options.rotate_left((self.failed_back_offs % 3) as usize);
         options
+    }
+
+    /// The newest position of the rover's own track a little beyond the back-off distance
+    /// from `pose` (`None` while the track is shorter): ground it has driven, so known.
+    pub fn track_behind(&self, pose: RoverPose) -> Option<[f64; 2]> {
+        let reach_m = self.config.back_off_m + 0.3;
+        self.trail
+            .iter()
+            .rev()
+            .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
+            .copied()
     }
 
     /// While backing off: go to `waypoint_m` instead (nose first when `forward`), a way out

@@ -494,9 +494,12 @@ impl Navigator {
             self.counters.route_changes += 1;
         }
         let steer = self.steer(rover);
-        if !steer.turn_clear && self.may_back_off_to_turn(rover_m) {
+        if !steer.turn_clear
+            && let Some(way_out) = self.room_to_turn(rover)
+            && self.may_back_off_to_turn(rover_m)
+        {
             self.bumper.back_off_to_turn(rover, time_s);
-            self.choose_way_out(rover);
+            self.bumper.redirect_back_off(way_out);
             self.counters.turn_back_offs += 1;
             if let Some(decision) = self.backing_off(replanned) {
                 return Ok(decision);

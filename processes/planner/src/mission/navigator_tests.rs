@@ -566,26 +566,40 @@ fn the_footprint_sweep_takes_a_nearer_waypoint_when_the_body_would_brush_a_rock(
 }
 
 #[test]
-fn a_rover_whose_turn_would_swing_a_corner_into_a_rock_backs_off_first() {
+fn a_rover_whose_turn_would_swing_a_corner_into_a_rock_backs_off_along_its_track_first() {
     // The goal lies behind the rover; a rock stands off its left flank, clear of the body as
     // it stands but inside the circle its corners sweep when it turns on the spot.
     let geometry = MapGeometry::new(-8.0, -8.0, 0.25, 64, 64).unwrap();
-    let rock = geometry.cell_of([0.05, 0.6]).unwrap();
+    let rock = vec![CellChange::new(
+        geometry.cell_of([0.05, 0.6]).unwrap(),
+        CellState::Obstacle,
+        0,
+    )];
     let mut config = NavigatorConfig::default();
     config.scout.enabled = false;
-    let rover = at([0.0, 0.0]);
-    let decide = |rocks: Vec<CellChange>| {
+    // The rover has driven 2 m along +x to the origin (its track) or stands there from the
+    // start (no track: behind it lies ground its camera never saw).
+    let decide = |rocks: Vec<CellChange>, track: bool| {
         let mut navigator =
-            Navigator::new(geometry, rover.xy_m, [-6.0, 1.0], config.clone()).unwrap();
+            Navigator::new(geometry, [-2.0, 0.0], [-6.0, 1.0], config.clone()).unwrap();
         navigator.queue_changes(rocks);
-        let decision = navigator.step(rover, None, 0.0).unwrap();
+        let steps = if track { 0..=20 } else { 20..=20 };
+        let mut decision = None;
+        for step in steps {
+            let rover = at([-2.0 + 0.1 * f64::from(step), 0.0]);
+            decision = Some(navigator.step(rover, None, 0.1 * f64::from(step)).unwrap());
+        }
+        let decision = decision.expect("a step");
         (decision, navigator.counters().turn_back_offs)
     };
-    let (free, backed) = decide(Vec::new());
+    let (free, backed) = decide(Vec::new(), true);
     assert!(!free.reverse && backed == 0, "{free:?}");
-    let (decision, backed) = decide(vec![CellChange::new(rock, CellState::Obstacle, 0)]);
+    let (decision, backed) = decide(rock.clone(), true);
     assert!(decision.reverse, "turned into the rock: {decision:?}");
     assert_eq!(backed, 1);
-    // Straight back, the way the body sweeps past nothing.
+    // Back along its track, the way the body sweeps past nothing.
     assert!(decision.waypoint_m[0] < -0.5 && decision.waypoint_m[1].abs() < 0.1);
+    // Without a track behind it, it does not back into the unseen: it turns.
+    let (decision, backed) = decide(rock, false);
+    assert!(!decision.reverse && backed == 0, "{decision:?}");
 }

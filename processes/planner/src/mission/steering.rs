@@ -200,4 +200,16 @@ impl Navigator {
             .geometry
             .footprint_is_clear(rover.xy_m, to_m, self.half_extents_m(), blocked)
     }
+
+    /// Where the rover can back off to make room for a turn: back along its own track (known
+    /// ground; behind it lies what its forward camera never saw), when the body sweeps past
+    /// no rock on the way (`None` otherwise: the turn is then made as it is).
+    pub(super) fn room_to_turn(&self, rover: RoverPose) -> Option<([f64; 2], bool)> {
+        let back_m = self.bumper.track_behind(rover)?;
+        let touched =
+            self.geometry
+                .cells_under_body(rover.xy_m, rover.yaw_rad, self.half_extents_m());
+        self.way_out_fits(rover, back_m, false, &touched)
+            .then_some((back_m, false))
+    }
 }

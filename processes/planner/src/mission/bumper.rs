@@ -212,14 +212,7 @@ impl Bumper {
         self.start_back_off(pose, time_s)
     }
 
-    /// The turn toward the path would swing a corner into a rock: back off as from a stall,
-    /// to make room (no stall is counted, nothing is marked).
-    pub fn back_off_to_turn(&mut self, pose: RoverPose, time_s: f64) {
-        self.extend_trail(pose.xy_m);
-        self.begin_back_off(pose, time_s);
-    }
-
-    fn begin_back_off(&mut self, pose: RoverPose, time_s: f64) {
+    fn start_back_off(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
         self.anchor = None;
         let (waypoint_m, forward) = self.back_off_target(pose);
         self.backing_off = Some(BackOff {
@@ -228,10 +221,6 @@ impl Bumper {
             waypoint_m,
             forward,
         });
-    }
-
-    fn start_back_off(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
-        self.begin_back_off(pose, time_s);
         BumperEvent::Stuck {
             obstacle_m: pose.ahead_m(self.config.obstacle_reach_m),
         }
@@ -261,46 +250,28 @@ impl Bumper {
         self.trail.push_back(xy_m);
     }
 
-    /// Where to back off to, and whether nose first: the first of [`Self::back_off_options`].
+    /// Where to back off to, and whether nose first. In turn after failed tries: the newest
+    /// track position a little beyond the back-off distance; the point straight behind; the
+    /// point straight ahead (each beyond the back-off distance, so the rover does not slow to
+    /// a stop before it gets there).
     fn back_off_target(&self, pose: RoverPose) -> ([f64; 2], bool) {
-        self.back_off_options(pose)[0]
-    }
-
-    /// The ways out of a back-off from `pose` (target, nose first), the one to try first
-    /// first. In turn after failed tries: the newest track position a little beyond the
-    /// back-off distance; the point straight behind; the point straight ahead (each beyond
-    /// the back-off distance, so the rover does not slow to a stop before it gets there).
-    pub fn back_off_options(&self, pose: RoverPose) -> [([f64; 2], bool); 3] {
         let beyond_m = self.config.back_off_m + 0.5;
-        let along_track_m = self.track_behind(pose).unwrap_or(pose.ahead_m(-beyond_m));
-        let mut options = [
-            (along_track_m, false),
+        match self.failed_back_offs % 3 {
             // The track did not lead out last time (a corner swept into a rock): straight.
-            (pose.ahead_m(-beyond_m), false),
+            1 => (pose.ahead_m(-beyond_m), false),
             // Neither way back did: the rock is at the side or the rear.
-            (pose.ahead_m(beyond_m), true),
-        ];
-        options.rotate_left((self.failed_back_offs % 3) as usize);
-        options
-    }
-
-    /// The newest position of the rover's own track a little beyond the back-off distance
-    /// from `pose` (`None` while the track is shorter): ground it has driven, so known.
-    pub fn track_behind(&self, pose: RoverPose) -> Option<[f64; 2]> {
-        let reach_m = self.config.back_off_m + 0.3;
-        self.trail
-            .iter()
-            .rev()
-            .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
-            .copied()
-    }
-
-    /// While backing off: go to `waypoint_m` instead (nose first when `forward`), a way out
-    /// the caller found clear.
-    pub fn redirect_back_off(&mut self, (waypoint_m, forward): ([f64; 2], bool)) {
-        if let Some(back_off) = self.backing_off.as_mut() {
-            back_off.waypoint_m = waypoint_m;
-            back_off.forward = forward;
+            2 => (pose.ahead_m(beyond_m), true),
+            _ => {
+                let reach_m = self.config.back_off_m + 0.3;
+                let along_track_m = self
+                    .trail
+                    .iter()
+                    .rev()
+                    .find(|&&point| distance_m(point, pose.xy_m) >= reach_m)
+                    .copied()
+                    .unwrap_or(pose.ahead_m(-beyond_m));
+                (along_track_m, false)
+            }
         }
     }
 }

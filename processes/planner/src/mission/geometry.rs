@@ -158,97 +158,31 @@ impl MapGeometry {
         } else {
             (1.0, 0.0)
         };
+        let [half_length_m, half_width_m] = half_extents_m;
+        // A cell touches the footprint when its centre is within half a cell diagonal of it.
+        let grow_m = 0.5 * std::f64::consts::SQRT_2 * self.cell_size_m;
+        let reach_m = half_length_m.hypot(half_width_m) + grow_m;
         let samples = (length_m / (0.25 * self.cell_size_m)).ceil().max(1.0) as usize;
         (0..=samples).all(|sample| {
             let t = sample as f64 / samples as f64;
             let centre_m = [from_m[0] + t * dx, from_m[1] + t * dy];
-            self.body_is_clear(centre_m, (cos, sin), half_extents_m, &blocked)
-        })
-    }
-
-    /// Whether the footprint, turned on the spot at `centre_m` from heading `from_yaw_rad` to
-    /// `to_yaw_rad` the short way round, stays clear of every cell `blocked` says is a rock:
-    /// a turn in place swings the body's corners out to its circumscribed radius, which a
-    /// sweep along the path does not see. Sampled so that a corner moves at most a quarter
-    /// cell between samples.
-    pub fn turn_is_clear(
-        &self,
-        centre_m: [f64; 2],
-        (from_yaw_rad, to_yaw_rad): (f64, f64),
-        half_extents_m: [f64; 2],
-        blocked: impl Fn(Cell) -> bool,
-    ) -> bool {
-        let turn_rad = (to_yaw_rad - from_yaw_rad + std::f64::consts::PI)
-            .rem_euclid(std::f64::consts::TAU)
-            - std::f64::consts::PI;
-        if !turn_rad.is_finite() || !from_yaw_rad.is_finite() {
-            return false;
-        }
-        let corner_m = half_extents_m[0].hypot(half_extents_m[1]).max(1e-3);
-        let step_rad = 0.25 * self.cell_size_m / corner_m;
-        let samples = (turn_rad.abs() / step_rad).ceil().max(1.0) as usize;
-        (0..=samples).all(|sample| {
-            let yaw_rad = from_yaw_rad + turn_rad * sample as f64 / samples as f64;
-            let (sin, cos) = yaw_rad.sin_cos();
-            self.body_is_clear(centre_m, (cos, sin), half_extents_m, &blocked)
-        })
-    }
-
-    /// Whether the footprint at `centre_m`, facing (`cos`, `sin`), touches no blocked cell.
-    fn body_is_clear(
-        &self,
-        centre_m: [f64; 2],
-        facing: (f64, f64),
-        half_extents_m: [f64; 2],
-        blocked: &impl Fn(Cell) -> bool,
-    ) -> bool {
-        self.for_cells_under_body(centre_m, facing, half_extents_m, |cell| !blocked(cell))
-    }
-
-    /// The cells the footprint at `centre_m` with heading `yaw_rad` touches.
-    pub fn cells_under_body(
-        &self,
-        centre_m: [f64; 2],
-        yaw_rad: f64,
-        half_extents_m: [f64; 2],
-    ) -> Vec<Cell> {
-        let (sin, cos) = yaw_rad.sin_cos();
-        let mut cells = Vec::new();
-        self.for_cells_under_body(centre_m, (cos, sin), half_extents_m, |cell| {
-            cells.push(cell);
-            true
-        });
-        cells
-    }
-
-    /// Calls `each` for every cell the footprint at `centre_m`, facing (`cos`, `sin`), may
-    /// touch (any part of the cell's square inside it), until `each` returns false; false
-    /// then, or when the footprint reaches off the map.
-    fn for_cells_under_body(
-        &self,
-        centre_m: [f64; 2],
-        (cos, sin): (f64, f64),
-        [half_length_m, half_width_m]: [f64; 2],
-        mut each: impl FnMut(Cell) -> bool,
-    ) -> bool {
-        // A cell touches the footprint when its centre is within half a cell diagonal of it.
-        let grow_m = 0.5 * std::f64::consts::SQRT_2 * self.cell_size_m;
-        let reach_m = half_length_m.hypot(half_width_m) + grow_m;
-        let Some(lo) = self.nearest_cell([centre_m[0] - reach_m, centre_m[1] - reach_m]) else {
-            return false;
-        };
-        let Some(hi) = self.nearest_cell([centre_m[0] + reach_m, centre_m[1] + reach_m]) else {
-            return false;
-        };
-        (lo.y..=hi.y).all(|y| {
-            (lo.x..=hi.x).all(|x| {
-                let cell = Cell::new(x, y);
-                let [cx, cy] = self.center_of(cell);
-                let (rx, ry) = (cx - centre_m[0], cy - centre_m[1]);
-                let along_m = (rx * cos + ry * sin).abs();
-                let across_m = (-rx * sin + ry * cos).abs();
-                let inside = along_m <= half_length_m + grow_m && across_m <= half_width_m + grow_m;
-                !inside || each(cell)
+            let Some(lo) = self.nearest_cell([centre_m[0] - reach_m, centre_m[1] - reach_m]) else {
+                return false;
+            };
+            let Some(hi) = self.nearest_cell([centre_m[0] + reach_m, centre_m[1] + reach_m]) else {
+                return false;
+            };
+            (lo.y..=hi.y).all(|y| {
+                (lo.x..=hi.x).all(|x| {
+                    let cell = Cell::new(x, y);
+                    let [cx, cy] = self.center_of(cell);
+                    let (rx, ry) = (cx - centre_m[0], cy - centre_m[1]);
+                    let along_m = (rx * cos + ry * sin).abs();
+                    let across_m = (-rx * sin + ry * cos).abs();
+                    let inside =
+                        along_m <= half_length_m + grow_m && across_m <= half_width_m + grow_m;
+                    !inside || !blocked(cell)
+                })
             })
         })
     }
@@ -287,29 +221,5 @@ mod tests {
         assert!(geometry.footprint_is_clear([0.0, -1.0], [4.0, -1.0], [0.55, 0.4], blocked));
         assert!(geometry.footprint_is_clear([-3.0, 0.0], [0.5, 0.0], [0.55, 0.4], blocked));
         assert!(!geometry.footprint_is_clear([f64::NAN, 0.0], [1.0, 0.0], [0.55, 0.4], blocked));
-    }
-
-    #[test]
-    fn a_turn_on_the_spot_sees_the_rock_its_corner_swings_through() {
-        let geometry = MapGeometry::new(-4.0, -4.0, 0.05, 160, 160).unwrap();
-        let half_extents_m = [0.5, 0.35];
-        // 0.58 m from the centre at 55°: beside the body at heading 0 and at ±40°, but the
-        // front-left corner passes over it in a left turn to 40°.
-        let angle = 55f64.to_radians();
-        let rock = geometry
-            .cell_of([0.58 * angle.cos(), 0.58 * angle.sin()])
-            .unwrap();
-        let blocked = |cell: Cell| cell == rock;
-        let forty = 40f64.to_radians();
-        for yaw_rad in [0.0, forty, -forty] {
-            assert!(
-                !geometry
-                    .cells_under_body([0.0, 0.0], yaw_rad, half_extents_m)
-                    .contains(&rock)
-            );
-        }
-        assert!(!geometry.turn_is_clear([0.0, 0.0], (0.0, forty), half_extents_m, blocked));
-        assert!(geometry.turn_is_clear([0.0, 0.0], (0.0, -forty), half_extents_m, blocked));
-        assert!(!geometry.turn_is_clear([0.0, 0.0], (f64::NAN, 0.0), half_extents_m, blocked));
     }
 }

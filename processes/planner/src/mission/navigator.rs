@@ -11,14 +11,6 @@ use crate::cost::{Cost, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
 
-#[path = "steering.rs"]
-mod steering;
-
-/// Back-offs in a row to make room for a turn, at most …
-const MAX_TURN_BACK_OFFS: u32 = 2;
-/// … until the rover gets this far from where they began, metres.
-const TURN_BACK_OFF_RESET_M: f64 = 1.0;
-
 /// Why navigation could not go on.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NavigationError {
@@ -90,9 +82,6 @@ pub struct NavigatorCounters {
     pub bump_marks_forgotten: u32,
     /// Times the rover tilted beyond `max_safe_tilt_rad` and backed off.
     pub tilt_stops: u32,
-    /// Times the rover backed off because every turn toward its path would have swung a
-    /// corner into a rock.
-    pub turn_back_offs: u32,
     /// Doubtful obstacles (see [`MapChange`]) cut the rover off the goal once, and are planned
     /// through at a high cost since.
     pub doubts_relaxed: bool,
@@ -168,8 +157,6 @@ pub struct Navigator {
     route_check_pending: bool,
     /// Stall detection and backing off.
     bumper: Bumper,
-    /// Where the latest run of back-offs for a turn began, and how many it has had.
-    turn_back_offs_here: Option<([f64; 2], u32)>,
     /// The last decision drove forward (the bumper only judges commanded motion).
     driving: bool,
     /// Cells the rover bumped into: obstacles whatever the mapper says later, unless they
@@ -232,7 +219,6 @@ impl Navigator {
             previous_path: Vec::with_capacity(cell_count.min(1 << 16)),
             route_check_pending: false,
             bumper,
-            turn_back_offs_here: None,
             driving: false,
             bumped: Vec::new(),
             is_bumped: vec![false; cell_count],
@@ -441,12 +427,20 @@ impl Navigator {
         };
         if let BumperEvent::Stuck { obstacle_m } = event {
             self.mark_bumped_ahead(rover, obstacle_m, rover_cell);
-            self.choose_way_out(rover);
         }
         let replanned = self.apply_pending()?;
         self.route_check_pending |= replanned;
-        if let Some(decision) = self.backing_off(replanned) {
-            return Ok(decision);
+        if let Some(waypoint_m) = self.bumper.back_off_waypoint() {
+            self.driving = false;
+            return Ok(Decision {
+                waypoint_m,
+                speed_mps: 0.5 * self.config.cruise_speed_mps,
+                hold: false,
+                reverse: !self.bumper.backing_off_forward(),
+                scout: None,
+                status: MissionStatus::Driving,
+                replanned,
+            });
         }
         // Mapping noise or a cut corner can put the rover in an obstacle cell: plan from the
         // nearest traversable cell instead (an obstacle start would have no way out).
@@ -493,19 +487,7 @@ impl Navigator {
         {
             self.counters.route_changes += 1;
         }
-        let steer = self.steer(rover);
-        if !steer.turn_clear
-            && let Some(way_out) = self.room_to_turn(rover)
-            && self.may_back_off_to_turn(rover_m)
-        {
-            self.bumper.back_off_to_turn(rover, time_s);
-            self.bumper.redirect_back_off(way_out);
-            self.counters.turn_back_offs += 1;
-            if let Some(decision) = self.backing_off(replanned) {
-                return Ok(decision);
-            }
-        }
-        let waypoint_m = steer.waypoint_m;
+        let waypoint_m = self.waypoint(rover_m);
         let scout = self.scout(rover_m, jumper_m, time_s);
         self.driving = true;
         Ok(Decision {
@@ -667,43 +649,6 @@ impl Navigator {
         })
     }
 
-    /// While the bumper backs the rover off: the decision that drives it there.
-    fn backing_off(&mut self, replanned: bool) -> Option<Decision> {
-        let waypoint_m = self.bumper.back_off_waypoint()?;
-        self.driving = false;
-        Some(Decision {
-            waypoint_m,
-            speed_mps: 0.5 * self.config.cruise_speed_mps,
-            hold: false,
-            reverse: !self.bumper.backing_off_forward(),
-            scout: None,
-            status: MissionStatus::Driving,
-            replanned,
-        })
-    }
-
-    /// Whether the rover at `rover_m` may back off once more to make room for a turn: at most
-    /// [`MAX_TURN_BACK_OFFS`] times before it has got [`TURN_BACK_OFF_RESET_M`] away from
-    /// where the first of them began (a turn that no back-off frees is then made as before,
-    /// rather than backing off for ever).
-    fn may_back_off_to_turn(&mut self, rover_m: [f64; 2]) -> bool {
-        match self.turn_back_offs_here {
-            Some((from_m, _)) if distance_m(from_m, rover_m) > TURN_BACK_OFF_RESET_M => {
-                self.turn_back_offs_here = Some((rover_m, 1));
-                true
-            }
-            Some((_, count)) if count >= MAX_TURN_BACK_OFFS => false,
-            Some((from_m, count)) => {
-                self.turn_back_offs_here = Some((from_m, count + 1));
-                true
-            }
-            None => {
-                self.turn_back_offs_here = Some((rover_m, 1));
-                true
-            }
-        }
-    }
-
     fn hold(&mut self, rover_m: [f64; 2], status: MissionStatus, replanned: bool) -> Decision {
         self.driving = false;
         Decision {
@@ -715,6 +660,98 @@ impl Navigator {
             status,
             replanned,
         }
+    }
+
+    /// Pure pursuit: the first path point at least `lookahead_m` from the rover, or a nearer
+    /// one, such that the straight drive from the rover's actual position to it crosses no
+    /// obstacle cell (a segment from the cell centre could cut a corner the rover then hits)
+    /// and, with `footprint_check`, sweeps the body past no rock; the goal itself at the end
+    /// of the path.
+    fn waypoint(&self, rover_m: [f64; 2]) -> [f64; 2] {
+        let ahead = self.path.iter().position(|&cell| {
+            distance_m(self.geometry.center_of(cell), rover_m) >= self.config.lookahead_m
+        });
+        let Some(index) = ahead else {
+            return self.goal_m;
+        };
+        let candidates = || {
+            (1..=index)
+                .rev()
+                .map(|candidate| self.geometry.center_of(self.path[candidate]))
+                .filter(|&target_m| {
+                    self.geometry
+                        .segment_is_clear(self.planner.grid(), rover_m, target_m)
+                })
+        };
+        // The farthest waypoint the body reaches clear of every rock; when none (the rover
+        // already brushes one, or the path squeezes past it), the farthest the centre reaches,
+        // as without the sweep: a rover that waited for a clear footprint would never move.
+        candidates()
+            .find(|&target_m| self.footprint_fits(rover_m, target_m))
+            .or_else(|| candidates().next())
+            .unwrap_or_else(|| self.geometry.center_of(self.path[0]))
+    }
+
+    /// The rover's body, driven straight from `from_m` to `to_m`, touches no rock cell (always
+    /// true with `footprint_check` off).
+    fn footprint_fits(&self, from_m: [f64; 2], to_m: [f64; 2]) -> bool {
+        if !self.config.footprint_check {
+            return true;
+        }
+        let body = &self.config.rover_body;
+        let half_extents_m = [
+            0.5 * body.footprint_length_m(),
+            0.5 * body.footprint_width_m(),
+        ];
+        self.geometry
+            .footprint_is_clear(from_m, to_m, half_extents_m, |cell| {
+                self.cell_index(cell)
+                    .is_some_and(|index| self.rock[index] || self.is_bumped[index])
+            })
+    }
+
+    /// How many cells of the path, from its start, lie within `range_m` of the rover.
+    fn path_cells_within(&self, rover_m: [f64; 2], range_m: f64) -> usize {
+        self.path
+            .iter()
+            .position(|&cell| distance_m(self.geometry.center_of(cell), rover_m) > range_m)
+            .unwrap_or(self.path.len())
+    }
+
+    /// `cell` if traversable, else the traversable cell within three rings whose centre is
+    /// nearest the rover's actual position.
+    fn nearest_traversable(&self, cell: Cell, rover_m: [f64; 2]) -> Option<Cell> {
+        let grid = self.planner.grid();
+        if grid.is_traversable(cell) {
+            return Some(cell);
+        }
+        const MAX_RING: i64 = 3;
+        for ring in 1..=MAX_RING {
+            let mut best: Option<(f64, Cell)> = None;
+            for dy in -ring..=ring {
+                for dx in -ring..=ring {
+                    if dx.abs().max(dy.abs()) != ring {
+                        continue;
+                    }
+                    let (x, y) = (i64::from(cell.x) + dx, i64::from(cell.y) + dy);
+                    if x < 0 || y < 0 || x > i64::from(u32::MAX) || y > i64::from(u32::MAX) {
+                        continue;
+                    }
+                    let candidate = Cell::new(x as u32, y as u32);
+                    if !(grid.contains(candidate) && grid.is_traversable(candidate)) {
+                        continue;
+                    }
+                    let distance = distance_m(self.geometry.center_of(candidate), rover_m);
+                    if best.is_none_or(|(best_m, _)| distance < best_m) {
+                        best = Some((distance, candidate));
+                    }
+                }
+            }
+            if let Some((_, found)) = best {
+                return Some(found);
+            }
+        }
+        None
     }
 
     fn scout(

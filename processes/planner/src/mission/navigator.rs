@@ -11,6 +11,11 @@ use crate::cost::{Cost, path_cost};
 use crate::grid::{Cell, CellChange, CellState, Grid};
 use crate::{DStarLite, PlanError};
 
+#[path = "navigator_bumps.rs"]
+mod bumps;
+#[path = "navigator_doubts.rs"]
+mod doubts;
+
 /// Why navigation could not go on.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NavigationError {
@@ -134,10 +139,6 @@ pub const DOUBTFUL_OBSTACLE_COST: u32 = 100_000;
 
 /// On steep ground, the rover stops again only once this much steeper, radians (2°).
 const TILT_STOP_MARGIN_RAD: f64 = 0.035;
-
-/// Bumped cells remembered (a bounded list: a mission bumps a handful of times, up to about
-/// thirty cells each on a fine grid).
-const MAX_BUMPED_CELLS: usize = 4096;
 
 /// The rover's navigator.
 pub struct Navigator {
@@ -322,50 +323,6 @@ impl Navigator {
             .then(|| cell.y as usize * self.geometry.width_cells() as usize + cell.x as usize)
     }
 
-    /// A doubtful obstacle as a costly free cell, once doubts are relaxed.
-    fn relax_if_doubtful(&self, change: CellChange) -> CellChange {
-        let doubtful = self
-            .cell_index(change.cell)
-            .is_some_and(|index| self.doubtful[index]);
-        if self.doubts_relaxed && doubtful {
-            CellChange::new(change.cell, CellState::Free, DOUBTFUL_OBSTACLE_COST)
-        } else {
-            change
-        }
-    }
-
-    /// When the goal is unreachable, doubtful obstacles may be what cuts the rover off: plan
-    /// through them at a high cost from now on (the rover's own stereo confirms real rocks as
-    /// it comes near, and the bumper stops it at one the map missed). True when the search is
-    /// worth repeating.
-    fn relax_doubts(&mut self) -> Result<bool, NavigationError> {
-        if self.doubts_relaxed || !self.doubtful.contains(&true) {
-            return Ok(false);
-        }
-        self.doubts_relaxed = true;
-        let width = self.geometry.width_cells() as usize;
-        let relaxed: Vec<CellChange> = self
-            .doubtful
-            .iter()
-            .enumerate()
-            .filter(|(_, doubtful)| **doubtful)
-            .map(|(index, _)| {
-                let cell = Cell::new((index % width) as u32, (index / width) as u32);
-                self.keep_goal_open(self.relax_if_doubtful(CellChange::new(
-                    cell,
-                    CellState::Obstacle,
-                    0,
-                )))
-            })
-            .filter(|change| !self.is_bumped_cell(change.cell))
-            .collect();
-        self.planner
-            .update_cells(&relaxed)
-            .map_err(NavigationError::Plan)?;
-        self.counters.doubts_relaxed = true;
-        Ok(true)
-    }
-
     /// The goal cell stays traversable, at the highest cost, whatever the map says: a false
     /// obstacle next to the goal would otherwise make the whole mission unreachable, and the
     /// goal counts as reached within `goal_tolerance_m` (the bumper still stops the rover at a
@@ -499,106 +456,6 @@ impl Navigator {
             status: MissionStatus::Driving,
             replanned,
         })
-    }
-
-    /// The rover is stuck against something at `obstacle_m` ahead: marks that cell, or, when
-    /// it is already marked (the rover stalled again facing the same way: the rock or slope is
-    /// wider than a cell), the next unmarked cell ahead-left or ahead-right of it.
-    fn mark_bumped_ahead(&mut self, rover: RoverPose, obstacle_m: [f64; 2], rover_cell: Cell) {
-        let reach_m = distance_m(rover.xy_m, obstacle_m);
-        let candidates = [0.0, 0.6, -0.6, 1.1, -1.1].map(|turn_rad| {
-            RoverPose {
-                xy_m: rover.xy_m,
-                yaw_rad: rover.yaw_rad + turn_rad,
-            }
-            .ahead_m(reach_m)
-        });
-        for candidate_m in candidates {
-            if self.mark_bumped(candidate_m, rover_cell) {
-                return;
-            }
-        }
-    }
-
-    /// The rover is stuck against something at `obstacle_m` the map does not show: mark its
-    /// cell as an obstacle, and the ring of cells around it, so the next search keeps the
-    /// rover's body clear of it as the mapper's lethal margin would (a path one cell over
-    /// brushed the same rock again: the rover is 0.7 m wide). Never the goal or the rover's
-    /// own cell. True when the centre cell was newly marked.
-    fn mark_bumped(&mut self, obstacle_m: [f64; 2], rover_cell: Cell) -> bool {
-        let Some(centre) = self.geometry.cell_of(obstacle_m) else {
-            return false;
-        };
-        if !self.mark_bumped_cell(centre, rover_cell) {
-            return false;
-        }
-        let cell_size_m = self.geometry.cell_size_m();
-        let reach = (self.config.bump_ring_m / cell_size_m).ceil() as i64;
-        for dy in -reach..=reach {
-            for dx in -reach..=reach {
-                let within =
-                    (dx as f64).hypot(dy as f64) * cell_size_m <= self.config.bump_ring_m + 1e-9;
-                let (x, y) = (i64::from(centre.x) + dx, i64::from(centre.y) + dy);
-                if (dx, dy) == (0, 0) || !within || x < 0 || y < 0 {
-                    continue;
-                }
-                let cell = Cell::new(x as u32, y as u32);
-                if self.planner.grid().index_of(cell).is_some() {
-                    self.mark_bumped_cell(cell, rover_cell);
-                }
-            }
-        }
-        self.counters.blocked_marks += 1;
-        true
-    }
-
-    /// Marks one cell as bumped (remembering the mapper's view of it, so that the mark can
-    /// be forgotten); false for the goal, the rover's cell, a cell already marked, or when the
-    /// list of bumped cells is full.
-    fn mark_bumped_cell(&mut self, cell: Cell, rover_cell: Cell) -> bool {
-        if cell == self.planner.goal()
-            || cell == rover_cell
-            || self.bumped.len() >= MAX_BUMPED_CELLS
-            || self.is_bumped_cell(cell)
-        {
-            return false;
-        }
-        let Some(index) = self.cell_index(cell) else {
-            return false;
-        };
-        let grid = self.planner.grid();
-        let mapper = CellChange::new(
-            cell,
-            grid.state(cell).unwrap_or(CellState::Unknown),
-            grid.extra_cost(cell).unwrap_or(0),
-        );
-        self.pending
-            .push(CellChange::new(cell, CellState::Obstacle, 0));
-        self.bumped.push(BumpedCell { cell, mapper });
-        self.is_bumped[index] = true;
-        true
-    }
-
-    /// The cell carries a bump mark.
-    fn is_bumped_cell(&self, cell: Cell) -> bool {
-        self.cell_index(cell)
-            .is_some_and(|index| self.is_bumped[index])
-    }
-
-    /// When the goal is unreachable and bump marks exist, they may be what cuts the rover
-    /// off (bumps are guesses from a stall): restore the mapper's view of those cells.
-    /// True when marks were forgotten and the search is worth repeating.
-    fn forget_bump_marks(&mut self) -> Result<bool, NavigationError> {
-        if self.bumped.is_empty() {
-            return Ok(false);
-        }
-        let restore: Vec<CellChange> = self.bumped.drain(..).map(|bumped| bumped.mapper).collect();
-        self.is_bumped.fill(false);
-        self.planner
-            .update_cells(&restore)
-            .map_err(NavigationError::Plan)?;
-        self.counters.bump_marks_forgotten += 1;
-        Ok(true)
     }
 
     /// Applies queued changes; true when they changed the cost of the path being followed.

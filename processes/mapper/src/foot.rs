@@ -42,32 +42,41 @@ const MAX_SLOPE: f64 = 0.3;
 /// stands, metres (0 when the points cannot fix the slope), from the ground under the
 /// rock's `points`.
 pub fn foot_drop_m(points: &[RockPoint], base_radius_m: f64) -> f64 {
-    let valid: Vec<[f64; 3]> = points
-        .iter()
-        .map(|p| {
-            [
-                f64::from(p.xy_m[0]),
-                f64::from(p.xy_m[1]),
-                f64::from(p.ground_z_m),
-            ]
-        })
-        .filter(|p| p.iter().all(|v| v.is_finite()))
-        .collect();
-    if valid.len() < MIN_POINTS || !(base_radius_m.is_finite() && base_radius_m > 0.0) {
+    if !(base_radius_m.is_finite() && base_radius_m > 0.0) {
         return 0.0;
     }
-    slope(&valid).min(MAX_SLOPE) * base_radius_m
+    slope(points).min(MAX_SLOPE) * base_radius_m
 }
 
-/// The magnitude of the least-squares ground gradient through `points` (x, y, ground z):
-/// the full gradient when the points spread in both directions, its component along the
-/// wider one otherwise.
-fn slope(points: &[[f64; 3]]) -> f64 {
-    let n = points.len() as f64;
-    let mean = |axis: usize| points.iter().map(|p| p[axis]).sum::<f64>() / n;
-    let (mx, my, mz) = (mean(0), mean(1), mean(2));
+/// A point's (x, y, ground z), when all three are finite.
+fn ground_sample(point: &RockPoint) -> Option<[f64; 3]> {
+    let sample = [
+        f64::from(point.xy_m[0]),
+        f64::from(point.xy_m[1]),
+        f64::from(point.ground_z_m),
+    ];
+    sample.iter().all(|v| v.is_finite()).then_some(sample)
+}
+
+/// The magnitude of the least-squares ground gradient under `points` (their finite ground
+/// samples; 0 with fewer than [`MIN_POINTS`]): the full gradient when the points spread in
+/// both directions, its component along the wider one otherwise.
+fn slope(points: &[RockPoint]) -> f64 {
+    let samples = || points.iter().filter_map(ground_sample);
+    let count = samples().count();
+    if count < MIN_POINTS {
+        return 0.0;
+    }
+    let n = count as f64;
+    let mut mean = [0.0; 3];
+    for sample in samples() {
+        for axis in 0..3 {
+            mean[axis] += sample[axis];
+        }
+    }
+    let [mx, my, mz] = mean.map(|sum| sum / n);
     let (mut sxx, mut sxy, mut syy, mut sxz, mut syz) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for p in points {
+    for p in samples() {
         let (dx, dy, dz) = (p[0] - mx, p[1] - my, p[2] - mz);
         sxx += dx * dx;
         sxy += dx * dy;

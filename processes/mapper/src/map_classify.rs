@@ -93,7 +93,7 @@ impl FeatureMap {
         };
         let mut class = BeliefClass::Unknown;
         domes.near(&self.geometry, index, 0.0, |dome, _| {
-            match layer.judge_rock(dome.step_height_m(), dome.height_sigma_m) {
+            match dome.judged_by(layer) {
                 BeliefClass::Lethal => class = BeliefClass::Lethal,
                 BeliefClass::Uncertain if class != BeliefClass::Lethal => {
                     class = BeliefClass::Uncertain;
@@ -254,7 +254,7 @@ impl FeatureMap {
         );
         let mut worst: Option<(u32, bool)> = None;
         domes.near(&self.geometry, index, costs.radius_m, |dome, gap_m| {
-            let cost = match layer.judge_rock(dome.step_height_m(), dome.height_sigma_m) {
+            let cost = match dome.judged_by(layer) {
                 BeliefClass::Lethal => costs.at(gap_m.max(0.0)),
                 BeliefClass::Uncertain => {
                     costs.at(gap_m.max(0.0)).map(|(cost, _)| (cost / 2, false))

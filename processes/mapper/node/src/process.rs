@@ -18,6 +18,7 @@ use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 
 use hopnav_mapper::config::{MapperConfig, grid_geometry, mapper_section};
+use hopnav_mapper::geometry::GridGeometry;
 use hopnav_mapper::map::{CellState, FeatureMap, cloud_slot};
 use hopnav_mapper::oracle_prior::{OraclePriorError, perfect_scout_report};
 use hopnav_mapper::snapshot;
@@ -201,16 +202,7 @@ impl MapperProcess {
     fn publish(&mut self, tick: &FrameTick) -> Result<(), MapperProcessError> {
         let geometry = *self.map.geometry();
         let header = |count: usize| {
-            move |header: &mut MapHeader| {
-                header.stamp.frame_index = tick.stamp.frame_index;
-                header.stamp.sim_time_ns = tick.stamp.sim_time_ns;
-                header.origin_x_m = geometry.origin_x_m;
-                header.origin_y_m = geometry.origin_y_m;
-                header.cell_size_m = geometry.cell_size_m;
-                header.width_cells = geometry.width_cells;
-                header.height_cells = geometry.height_cells;
-                header.update_count = count as u32;
-            }
+            move |header: &mut MapHeader| fill_map_header(header, tick, &geometry, count)
         };
         if self.changes.is_empty() {
             if !self.header_sent {
@@ -252,16 +244,7 @@ impl MapperProcess {
         let cells = &self.known_cells;
         self.snapshot_topic.send_from_fn(
             cells.len(),
-            |header: &mut MapHeader| {
-                header.stamp.frame_index = tick.stamp.frame_index;
-                header.stamp.sim_time_ns = tick.stamp.sim_time_ns;
-                header.origin_x_m = geometry.origin_x_m;
-                header.origin_y_m = geometry.origin_y_m;
-                header.cell_size_m = geometry.cell_size_m;
-                header.width_cells = geometry.width_cells;
-                header.height_cells = geometry.height_cells;
-                header.update_count = cells.len() as u32;
-            },
+            |header: &mut MapHeader| fill_map_header(header, tick, &geometry, cells.len()),
             |index| cells[index],
         )?;
         Ok(())
@@ -431,6 +414,23 @@ impl Process for MapperProcess {
 
 fn frame_text(frame: Option<u64>) -> String {
     frame.map_or_else(|| "none".to_owned(), |frame| frame.to_string())
+}
+
+/// The header of a map sample of `count` cells on the grid `geometry`, for frame `tick`.
+fn fill_map_header(
+    header: &mut MapHeader,
+    tick: &FrameTick,
+    geometry: &GridGeometry,
+    count: usize,
+) {
+    header.stamp.frame_index = tick.stamp.frame_index;
+    header.stamp.sim_time_ns = tick.stamp.sim_time_ns;
+    header.origin_x_m = geometry.origin_x_m;
+    header.origin_y_m = geometry.origin_y_m;
+    header.cell_size_m = geometry.cell_size_m;
+    header.width_cells = geometry.width_cells;
+    header.height_cells = geometry.height_cells;
+    header.update_count = count as u32;
 }
 
 #[cfg(test)]

@@ -245,7 +245,8 @@ impl FeatureMap {
 
     /// The footprint cost of cell `index` measured from the edge of the fitted rocks near it
     /// (the kernel measures from whole cells, which a rock's base covers only in part):
-    /// lethal rocks at full cost, uncertain ones at half (`None` without fitted rocks).
+    /// lethal rocks at full cost, uncertain ones as [`Self::uncertain_footprint_cost`] says
+    /// (`None` without fitted rocks).
     pub(super) fn cost_from_fitted_rocks(&self, index: usize) -> Option<(u32, bool)> {
         let (domes, layer, costs) = (
             self.domes.as_ref()?,
@@ -256,9 +257,9 @@ impl FeatureMap {
         domes.near(&self.geometry, index, costs.radius_m, |dome, gap_m| {
             let cost = match dome.judged_by(layer) {
                 BeliefClass::Lethal => costs.at(gap_m.max(0.0)),
-                BeliefClass::Uncertain => {
-                    costs.at(gap_m.max(0.0)).map(|(cost, _)| (cost / 2, false))
-                }
+                BeliefClass::Uncertain => costs
+                    .at(gap_m.max(0.0))
+                    .map(|share| (self.uncertain_footprint_cost(share), false)),
                 _ => None,
             };
             if let Some((cost, lethal)) = cost {
@@ -267,6 +268,19 @@ impl FeatureMap {
             }
         });
         worst
+    }
+
+    /// What a maybe-too-tall rock costs where a surely-too-tall one would cost
+    /// `(cost, lethal)`. Within the inscribed radius the body touches it whatever the
+    /// heading: as much a risk as driving onto it, so `uncertain_cost` (half the band's cost
+    /// made crossing its ring cheaper than crossing the rock, and the rover drove into such
+    /// rocks). Farther out only some headings touch it: half the cost.
+    fn uncertain_footprint_cost(&self, (cost, lethal): (u32, bool)) -> u32 {
+        if lethal {
+            self.thresholds.uncertain_cost.max(cost / 2)
+        } else {
+            cost / 2
+        }
     }
 
     pub(super) fn derive_state(&self, index: usize) -> CellState {
@@ -307,13 +321,13 @@ impl FeatureMap {
                     extra_cost = extra_cost.max(cost);
                     lethal |= is_lethal;
                 }
-                // Maybe too tall: the rover's body is kept off it at half the cost, never
+                // Maybe too tall: the rover's body is kept off it at a finite cost, never
                 // forbidden (the closer look settles it).
                 BaseClass::Uncertain if self.beliefs.is_some() => {
-                    let (cost, _) = self
+                    let share = self
                         .cost_from_extent(index, neighbour)
                         .unwrap_or((entry.cost, entry.lethal));
-                    extra_cost = extra_cost.max(cost / 2);
+                    extra_cost = extra_cost.max(self.uncertain_footprint_cost(share));
                 }
                 _ => {}
             }

@@ -502,3 +502,39 @@ fn the_noisy_points_of_a_low_rock_fit_no_tall_dome() {
         assert!(!blocks(&map, x_m, 0.1), "blocked at x = {x_m}");
     }
 }
+
+#[test]
+fn the_ground_around_a_maybe_too_tall_rock_costs_as_much_as_the_rock() {
+    // A rock just under the climb limit (0.19 m, 0.25 m radius) at (2, 0), seen whole: too
+    // tall only maybe (within two sigmas of the fit), so costly but open. Wherever the rover's centre would put its body on the
+    // rock whatever the heading (within the inscribed radius of its edge), the cost must be
+    // that of driving onto the rock, or the planner skirts it through its inscribed ring.
+    let config = MapperConfig {
+        dome_base_per_height: 1.0,
+        ..config()
+    };
+    let mut map = dome_map();
+    let cloud = rover_cloud((0.5, 3.5), (-1.5, 1.5), &[([2.0, 0.0], 0.25, 0.19)]);
+    for _ in 0..3 {
+        map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &cloud);
+        while {
+            map.update();
+            map.pending_cells() > 0
+        } {}
+    }
+    let extra_cost_at = |x_m: f64, y_m: f64| {
+        let (x, y) = map.geometry().cell_of(x_m, y_m).expect("inside");
+        map.cell_state(x, y).expect("cell").extra_cost
+    };
+    assert!(!blocks(&map, 2.0, 0.1), "a rock under the limit was shut");
+    // 0.2 m and 0.3 m beyond its edge (the inscribed radius is 0.4 m).
+    for (x_m, y_m) in [(2.0, 0.45), (2.0, -0.55), (2.45, 0.1)] {
+        assert!(
+            extra_cost_at(x_m, y_m) >= config.uncertain_cost,
+            "({x_m}, {y_m}) costs {}",
+            extra_cost_at(x_m, y_m)
+        );
+    }
+    // Beyond the circumscribed radius only a fraction of it.
+    assert!(extra_cost_at(2.0, 1.25) < config.uncertain_cost / 2);
+}

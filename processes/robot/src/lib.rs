@@ -38,6 +38,8 @@ pub struct RoverBody {
     pub ground_clearance_m: f64,
     /// Rocks taller than this block the rover; smaller ones are driven over, metres.
     pub max_climbable_height_m: f64,
+    /// Largest pitch or roll the rover accepts before it refuses to move on, radians.
+    pub max_tilt_rad: f64,
 }
 
 impl Default for RoverBody {
@@ -50,6 +52,7 @@ impl Default for RoverBody {
             chassis_half_extents_m: [0.5, 0.35, 0.12],
             ground_clearance_m: 0.3,
             max_climbable_height_m: 0.2,
+            max_tilt_rad: 30f64.to_radians(),
         }
     }
 }
@@ -96,6 +99,15 @@ impl RoverBody {
                 });
             }
         }
+        if !(self.max_tilt_rad > 0.0 && self.max_tilt_rad < std::f64::consts::FRAC_PI_2) {
+            return Err(ConfigError::Schema {
+                key: "physics.rover.max_tilt_rad".to_owned(),
+                message: format!(
+                    "{} is not a tilt limit: expected an angle in (0, π/2) radians",
+                    self.max_tilt_rad
+                ),
+            });
+        }
         Ok(())
     }
 
@@ -120,6 +132,41 @@ impl RoverBody {
     }
 }
 
+/// What the ground's slope under the rover's centre does to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlopeClass {
+    /// The body tilts less than three quarters of its limit.
+    Level,
+    /// Within a quarter of the limit: the bumps that the slope averaged over the wheelbase
+    /// hides may tip it over; drivable at a cost.
+    Steep,
+    /// Driven up or down it, the body tilts beyond what it accepts: it cannot go there.
+    TooSteep,
+}
+
+impl RoverBody {
+    /// Half the span over which the ground's slope tilts the body (its wheels stand half the
+    /// wheelbase ahead of and behind its centre), metres.
+    pub fn slope_half_span_m(&self) -> f64 {
+        0.5 * self.wheelbase_m
+    }
+
+    /// What a ground rising `rise_per_run` (the gradient's magnitude, averaged over
+    /// [`Self::slope_half_span_m`] either side of the centre) does to the body: a rover
+    /// driven straight up or down it pitches by its full angle, so that angle is judged
+    /// against [`Self::max_tilt_rad`]. A non-finite slope says nothing: `Level`.
+    pub fn slope_class(&self, rise_per_run: f64) -> SlopeClass {
+        let angle_rad = rise_per_run.abs().atan();
+        if !angle_rad.is_finite() || angle_rad <= 0.75 * self.max_tilt_rad {
+            SlopeClass::Level
+        } else if angle_rad <= self.max_tilt_rad {
+            SlopeClass::Steep
+        } else {
+            SlopeClass::TooSteep
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -135,6 +182,18 @@ mod tests {
         assert!((body.footprint_width_m() - 0.8).abs() < 1e-12);
         assert!((body.inscribed_radius_m() - 0.4).abs() < 1e-12);
         assert!((body.circumscribed_radius_m() - 0.5 * 1.1f64.hypot(0.8)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_slope_is_judged_by_the_pitch_it_gives_against_the_tilt_limit() {
+        let body = RoverBody::default();
+        let rise = |degrees: f64| degrees.to_radians().tan();
+        assert_eq!(body.slope_class(rise(10.0)), SlopeClass::Level);
+        assert_eq!(body.slope_class(-rise(26.0)), SlopeClass::Steep);
+        // A fresh crater's wall (0.8 rise per run at its rim, 39°).
+        assert_eq!(body.slope_class(0.8), SlopeClass::TooSteep);
+        assert_eq!(body.slope_class(f64::NAN), SlopeClass::Level);
+        assert!((body.slope_half_span_m() - 0.4).abs() < 1e-12);
     }
 
     #[test]
@@ -155,6 +214,10 @@ mod tests {
             .expect_err("a string is no length")
             .to_string();
         assert!(error.contains("physics.rover"), "{error}");
+        let error = RoverBody::from_config(&config("[physics.rover]\nmax_tilt_rad = 2.0\n"))
+            .expect_err("beyond a right angle")
+            .to_string();
+        assert!(error.contains("max_tilt_rad"), "{error}");
         let error = RoverBody::from_config(&config("[physics.rover]\nwheelbase_m = -1.0\n"))
             .expect_err("negative")
             .to_string();

@@ -68,7 +68,7 @@ impl Default for RoverConfig {
             chassis_half_extents_m: body.chassis_half_extents_m,
             ground_clearance_m: body.ground_clearance_m,
             max_climbable_height_m: body.max_climbable_height_m,
-            max_tilt_rad: 30f64.to_radians(),
+            max_tilt_rad: body.max_tilt_rad,
             max_speed_mps: 0.5,
             max_accel_mps2: 0.5,
             max_yaw_rate_radps: 0.6,
@@ -94,6 +94,7 @@ impl RoverConfig {
             chassis_half_extents_m: self.chassis_half_extents_m,
             ground_clearance_m: self.ground_clearance_m,
             max_climbable_height_m: self.max_climbable_height_m,
+            max_tilt_rad: self.max_tilt_rad,
         }
     }
 

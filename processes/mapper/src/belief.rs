@@ -123,7 +123,7 @@ pub enum BeliefClass {
     Lethal,
 }
 
-/// The belief of one cell. `Copy`, 56 bytes.
+/// The belief of one cell. `Copy`, 64 bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CellBelief {
     /// Estimate of the tallest thing above the local ground, metres (valid if `top_count > 0`).
@@ -159,6 +159,36 @@ pub struct CellBelief {
     /// Sum of the horizontal unit vectors from the camera to the cell's tall points (rover
     /// clouds): which way the unseen back of the thing lies.
     pub view_sum: [f32; 2],
+    /// The ground's elevation under the cell, from the rover's points on it.
+    pub ground: GroundElevation,
+}
+
+/// A cell's ground elevation: the inverse-variance weighted mean of the ground heights under
+/// the rover's points in it (its stereo's local ground, which a rock does not lift).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct GroundElevation {
+    /// Sum of weight × world z of the ground, metres.
+    weighted_z_sum: f32,
+    /// Sum of the weights (1/σ², 1/m²).
+    weight_sum: f32,
+}
+
+impl GroundElevation {
+    /// Adds the ground at world height `ground_z_m` measured with one-sigma `sigma_m` (> 0);
+    /// non-finite values are ignored.
+    pub fn add(&mut self, ground_z_m: f32, sigma_m: f32) {
+        if !(ground_z_m.is_finite() && sigma_m.is_finite() && sigma_m > 0.0) {
+            return;
+        }
+        let weight = 1.0 / (sigma_m * sigma_m);
+        self.weighted_z_sum += weight * ground_z_m;
+        self.weight_sum += weight;
+    }
+
+    /// The mean elevation, metres (`None` before any ground was seen).
+    pub fn z_m(&self) -> Option<f32> {
+        (self.weight_sum > 0.0).then(|| self.weighted_z_sum / self.weight_sum)
+    }
 }
 
 impl Default for CellBelief {
@@ -179,6 +209,7 @@ impl Default for CellBelief {
             extent_min_m: [f32::INFINITY; 2],
             extent_max_m: [f32::NEG_INFINITY; 2],
             view_sum: [0.0; 2],
+            ground: GroundElevation::default(),
         }
     }
 }

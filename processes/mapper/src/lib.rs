@@ -57,6 +57,7 @@ pub mod inflation;
 pub mod map;
 pub mod oracle_prior;
 pub mod rays;
+pub mod slope;
 pub mod snapshot;
 pub mod snapshot_writer;
 pub mod traversability;

@@ -18,6 +18,7 @@ use crate::dome_layer::{Changed, DomeLayer};
 use crate::geometry::GridGeometry;
 use crate::ground::{GroundPlane, GroundScratch};
 use crate::inflation::{FootprintCosts, KernelEntry, footprint_costs, kernel_for, kernel_reach};
+use crate::slope::SlopeJudge;
 use crate::traversability::{BeliefLayer, PointSource};
 
 /// What the map did with the features it was given.
@@ -145,6 +146,8 @@ pub struct FeatureMap {
     footprint_costs: Option<FootprintCosts>,
     /// The `traversability` model's rocks fitted as domes (`None` when off).
     domes: Option<DomeLayer>,
+    /// The `traversability` model's judge of the ground's slope.
+    slope: Option<SlopeJudge>,
 }
 
 impl FeatureMap {
@@ -193,6 +196,8 @@ impl FeatureMap {
             beliefs: (config.obstacle_model == ObstacleModel::Traversability)
                 .then(|| BeliefLayer::new(config, cells)),
             footprint_costs: footprint_costs(config),
+            slope: (config.obstacle_model == ObstacleModel::Traversability)
+                .then(|| SlopeJudge::new(config.rover_body, geometry.cell_size_m)),
             domes: (config.obstacle_model == ObstacleModel::Traversability
                 && config.dome_base_per_height > 0.0)
                 .then(|| {
@@ -335,6 +340,14 @@ impl FeatureMap {
                     },
                 );
             }
+            // The rover's ground points give the ground's elevation (its slope); a jumper
+            // cloud's pose drift would tilt it.
+            if robot == Robot::Rover
+                && let Some(measured_m) = height
+                && measured_m < 0.5 * layer.climb_limit_m()
+            {
+                layer.add_ground(index, point.position_m[2] - measured_m, vertical_sigma_m);
+            }
             // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
             // pose drift, and a ray drawn off its place would clear a real rock.
             if robot == Robot::Rover
@@ -376,6 +389,10 @@ impl FeatureMap {
                 domes.mark(index);
             }
             let (x, y) = self.geometry.coords(index);
+            if let Some(slope) = &self.slope {
+                // The cell's ground enters its own slope and its neighbours'.
+                slope.dependents(&self.geometry, x, y, |cell| self.restate.insert(cell));
+            }
             let (x0, y0, x1, y1) = self.geometry.window(x, y, reach);
             for ny in y0..=y1 {
                 for nx in x0..=x1 {

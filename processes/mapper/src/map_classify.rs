@@ -3,6 +3,7 @@
 //! cost from inflation, extents and fitted rocks.
 
 use hopnav_ipc::messages::{CellClass, Robot};
+use hopnav_robot::SlopeClass;
 
 use super::{Base, BaseClass, CellState, FeatureMap};
 use crate::belief::BeliefClass;
@@ -283,6 +284,17 @@ impl FeatureMap {
         }
     }
 
+    /// What the ground's slope under cell `(x, y)` does to the rover (`Level` without the
+    /// `traversability` model).
+    fn slope_class(&self, x: u32, y: u32) -> SlopeClass {
+        match (&self.slope, &self.beliefs) {
+            (Some(judge), Some(layer)) => {
+                judge.class_at(&self.geometry, x, y, |index| layer.ground_z_m(index))
+            }
+            _ => SlopeClass::Level,
+        }
+    }
+
     pub(super) fn derive_state(&self, index: usize) -> CellState {
         let base = self.base[index];
         let observed_by = self.stats[index].observed_by;
@@ -338,6 +350,14 @@ impl FeatureMap {
         }
         if base.class == BaseClass::Uncertain {
             extra_cost = extra_cost.max(self.thresholds.uncertain_cost);
+        }
+        match self.slope_class(x, y) {
+            SlopeClass::TooSteep => lethal = true,
+            SlopeClass::Steep => {
+                let band_cost = self.footprint_costs.as_ref().map_or(0, |c| c.band_cost);
+                extra_cost = extra_cost.max(band_cost);
+            }
+            SlopeClass::Level => {}
         }
         let class = match (extra_cost > 0, base.class) {
             _ if lethal => CellClass::Lethal,

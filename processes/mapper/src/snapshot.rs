@@ -35,7 +35,7 @@ use crate::map::{FeatureMap, MapCounters};
 
 /// Version of the snapshot layout; bump when [`CellStats`], [`CellBelief`] or [`CellPoints`]
 /// changes.
-pub const SNAPSHOT_VERSION: u32 = 7;
+pub const SNAPSHOT_VERSION: u32 = 8;
 
 /// Why a snapshot could not be written or restored.
 #[derive(Debug, thiserror::Error)]

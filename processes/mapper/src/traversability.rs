@@ -97,6 +97,20 @@ impl BeliefLayer {
         }
     }
 
+    /// The rover saw the ground at world height `ground_z_m` (± `sigma_m`, raised to the
+    /// configured floor) in cell `index`.
+    pub fn add_ground(&mut self, index: usize, ground_z_m: f32, sigma_m: f32) {
+        let sigma_m = self.floored_sigma_m(sigma_m);
+        if let Some(belief) = self.beliefs.get_mut(index) {
+            belief.ground.add(ground_z_m, sigma_m);
+        }
+    }
+
+    /// The ground's elevation in cell `index`, metres (`None` where the rover saw none).
+    pub fn ground_z_m(&self, index: usize) -> Option<f32> {
+        self.beliefs.get(index)?.ground.z_m()
+    }
+
     /// The ray of cloud `cloud` from `camera_m` to `point_m` (whose local ground is at
     /// `ground_z_m`) crossed the cells before the point: a miss for each whose claimed top it
     /// passed under. The cells whose belief changed go into `touched`.

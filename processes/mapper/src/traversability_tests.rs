@@ -538,3 +538,42 @@ fn the_ground_around_a_maybe_too_tall_rock_costs_as_much_as_the_rock() {
     // Beyond the circumscribed radius only a fraction of it.
     assert!(extra_cost_at(2.0, 1.25) < config.uncertain_cost / 2);
 }
+
+/// A rover stereo cloud of bare ground `z = profile(x)` on a 5 cm lattice over `[x0, x1] ×
+/// [y0, y1]` (heights above the local ground are 0: the stereo's local ground follows it).
+fn ground_cloud(
+    x_range: (f32, f32),
+    y_range: (f32, f32),
+    profile: impl Fn(f32) -> f32,
+) -> Vec<FeaturePoint> {
+    let steps = |(lo, hi): (f32, f32)| ((hi - lo) / 0.05).round() as i32;
+    let mut cloud = Vec::new();
+    for i in 0..=steps(x_range) {
+        for j in 0..=steps(y_range) {
+            let (x, y) = (x_range.0 + 0.05 * i as f32, y_range.0 + 0.05 * j as f32);
+            cloud.push(point(x, y, profile(x), 0.0, 0.02));
+        }
+    }
+    cloud
+}
+
+#[test]
+fn a_crater_wall_too_steep_to_drive_is_lethal_and_a_gentle_ramp_is_not() {
+    // Flat up to x = 2, then rising at `rise` per metre.
+    let judged = |rise: f32| {
+        let mut map = map();
+        let cloud = ground_cloud((0.0, 5.0), (-1.0, 1.0), |x| rise * (x - 2.0).max(0.0));
+        for _ in 0..2 {
+            map.insert_cloud_seen_from(Robot::Rover, Some([-1.0, 0.0, 1.0]), &cloud);
+            while {
+                map.update();
+                map.pending_cells() > 0
+            } {}
+        }
+        (class_at(&map, 3.5, 0.1), class_at(&map, 0.5, 0.1))
+    };
+    // 39°, a fresh crater's rim: beyond the 30° the rover accepts.
+    assert_eq!(judged(0.8), (CellClass::Lethal, CellClass::Free));
+    // 15°: driven up without a cost.
+    assert_eq!(judged(0.27), (CellClass::Free, CellClass::Free));
+}

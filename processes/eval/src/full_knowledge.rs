@@ -17,6 +17,7 @@ use hopnav_mapper::inflation::KernelEntry;
 use hopnav_planner::astar::astar;
 use hopnav_planner::mission::{DOUBTFUL_OBSTACLE_COST, MapGeometry};
 use hopnav_planner::{Cell, CellState, Grid};
+use hopnav_robot::SlopeClass;
 
 use crate::map_accuracy::{RockFootprint, distance_to_square_m};
 
@@ -30,10 +31,14 @@ pub struct FullKnowledgePath {
 }
 
 /// Plans from `start_m` to `goal_m` on the map of `rocks` taller than
-/// `min_obstacle_height_m`. `None` when A or B lies outside the grid or no path exists.
+/// `min_obstacle_height_m` and of the ground's true `slopes` (row-major over the grid; empty:
+/// level everywhere): too steep a cell is an obstacle, a steep one costs the kernel's band
+/// cost, as the mapper costs them. `None` when A or B lies outside the grid or no path
+/// exists.
 pub fn full_knowledge_path(
     rocks: &[RockFootprint],
     min_obstacle_height_m: f64,
+    slopes: &[SlopeClass],
     geometry: &MapGeometry,
     kernel: &[KernelEntry],
     start_m: [f64; 2],
@@ -61,6 +66,14 @@ pub fn full_knowledge_path(
             };
             lethal[index] |= entry.lethal;
             extra_cost[index] = extra_cost[index].max(entry.cost);
+        }
+    }
+    let band_cost = kernel.iter().map(|entry| entry.cost).max().unwrap_or(0);
+    for (index, slope) in slopes.iter().enumerate().take(grid.cell_count()) {
+        match slope {
+            SlopeClass::TooSteep => rock[index] = true,
+            SlopeClass::Steep => extra_cost[index] = extra_cost[index].max(band_cost),
+            SlopeClass::Level => {}
         }
     }
     let known: Vec<KnownCell> = (0..grid.cell_count())
@@ -225,11 +238,63 @@ mod tests {
     #[test]
     fn an_empty_field_is_crossed_in_a_straight_line() {
         let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
-        let path =
-            full_knowledge_path(&[], 0.15, &geometry(), &kernel, [-8.0, 0.3], [8.0, 1.9]).unwrap();
+        let path = full_knowledge_path(
+            &[],
+            0.15,
+            &[],
+            &geometry(),
+            &kernel,
+            [-8.0, 0.3],
+            [8.0, 1.9],
+        )
+        .unwrap();
         let straight_m = 16.0f64.hypot(1.6);
         assert!((path.length_m - straight_m).abs() < 1e-9, "{path:?}");
         assert_eq!(path.obstacle_cells, 0);
+    }
+
+    #[test]
+    fn ground_too_steep_is_driven_around_and_steep_ground_costs() {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        let geometry = geometry();
+        // A too-steep band across y from -6 to 6 at x = 0 (one cell wide): the way round is
+        // past y = ±6. The same band merely steep is driven across.
+        let band = |class: SlopeClass| -> Vec<SlopeClass> {
+            (0..40 * 40)
+                .map(|index| {
+                    let (x, y) = (index % 40, index / 40);
+                    if x == 20 && (8..32).contains(&y) {
+                        class
+                    } else {
+                        SlopeClass::Level
+                    }
+                })
+                .collect()
+        };
+        let too_steep = band(SlopeClass::TooSteep);
+        let path = full_knowledge_path(
+            &[],
+            0.15,
+            &too_steep,
+            &geometry,
+            &kernel,
+            [-8.0, 0.0],
+            [8.0, 0.0],
+        )
+        .unwrap();
+        assert!(path.length_m > 2.0 * 8.0f64.hypot(6.0), "{path:?}");
+        let steep = band(SlopeClass::Steep);
+        let path = full_knowledge_path(
+            &[],
+            0.15,
+            &steep,
+            &geometry,
+            &kernel,
+            [-8.0, 0.0],
+            [8.0, 0.0],
+        )
+        .unwrap();
+        assert!((path.length_m - 16.0).abs() < 1e-9, "{path:?}");
     }
 
     #[test]
@@ -239,16 +304,32 @@ mod tests {
         let wall: Vec<RockFootprint> = (0..=24)
             .map(|i| rock(0.0, -6.0 + 0.5 * f64::from(i), 0.3, 0.4))
             .collect();
-        let path = full_knowledge_path(&wall, 0.15, &geometry(), &kernel, [-8.0, 0.0], [8.0, 0.0])
-            .unwrap();
+        let path = full_knowledge_path(
+            &wall,
+            0.15,
+            &[],
+            &geometry(),
+            &kernel,
+            [-8.0, 0.0],
+            [8.0, 0.0],
+        )
+        .unwrap();
         assert!(path.length_m > 2.0 * 8.0f64.hypot(6.0), "{path:?}");
         assert!(path.obstacle_cells > 25);
         let low: Vec<RockFootprint> = wall
             .iter()
             .map(|r| rock(r.center_m[0], r.center_m[1], 0.3, 0.1))
             .collect();
-        let flat =
-            full_knowledge_path(&low, 0.15, &geometry(), &kernel, [-8.0, 0.0], [8.0, 0.0]).unwrap();
+        let flat = full_knowledge_path(
+            &low,
+            0.15,
+            &[],
+            &geometry(),
+            &kernel,
+            [-8.0, 0.0],
+            [8.0, 0.0],
+        )
+        .unwrap();
         assert!((flat.length_m - 16.0).abs() < 1e-9, "{flat:?}");
     }
 
@@ -262,9 +343,16 @@ mod tests {
             .filter(|y_m: &f64| y_m.abs() > 0.9)
             .map(|y_m| rock(0.25, y_m, 0.2, 0.4))
             .collect();
-        let path =
-            full_knowledge_path(&wall, 0.15, &geometry(), &kernel, [-8.0, 0.25], [8.0, 0.25])
-                .unwrap();
+        let path = full_knowledge_path(
+            &wall,
+            0.15,
+            &[],
+            &geometry(),
+            &kernel,
+            [-8.0, 0.25],
+            [8.0, 0.25],
+        )
+        .unwrap();
         assert!((path.length_m - 16.0).abs() < 1e-9, "{path:?}");
     }
 
@@ -278,11 +366,27 @@ mod tests {
             })
             .collect();
         assert_eq!(
-            full_knowledge_path(&ring, 0.15, &geometry(), &kernel, [-8.0, 0.0], [5.0, 0.0]),
+            full_knowledge_path(
+                &ring,
+                0.15,
+                &[],
+                &geometry(),
+                &kernel,
+                [-8.0, 0.0],
+                [5.0, 0.0]
+            ),
             None
         );
         assert_eq!(
-            full_knowledge_path(&[], 0.15, &geometry(), &kernel, [-80.0, 0.0], [5.0, 0.0]),
+            full_knowledge_path(
+                &[],
+                0.15,
+                &[],
+                &geometry(),
+                &kernel,
+                [-80.0, 0.0],
+                [5.0, 0.0]
+            ),
             None,
             "A outside the grid"
         );

@@ -27,6 +27,7 @@ pub mod map_accuracy;
 pub mod mission;
 pub mod rover_vo;
 pub mod traversability;
+pub mod true_slope;
 pub mod vo_accuracy;
 
 pub use evaluator::TruthEvaluator;

@@ -10,6 +10,7 @@ use hopnav_config::HopnavConfig;
 use hopnav_ipc::messages::{CellClass, Robot};
 use hopnav_mapper::config::MapperConfig;
 use hopnav_planner::mission::MapGeometry;
+use hopnav_robot::SlopeClass;
 use hopnav_supervisor::mission_record::{MissionRecord, RecordedMap};
 use hopnav_supervisor::mission_report::MissionReport;
 use serde::{Deserialize, Serialize};
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
 use crate::traversability::{BlockedArea, CameraView, MapCell, Reach, RockEllipse, blocked_area};
+use crate::true_slope::TrueSlopes;
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
@@ -176,6 +178,9 @@ pub struct MissionTruth {
     pub mapper: Option<MapperConfig>,
     /// The rover's camera (`None` when the camera config is invalid).
     pub rover_camera: Option<RoverCamera>,
+    /// The ground's true slope on the mapper's grid (`None` when the world or the grid is
+    /// invalid).
+    pub slopes: Option<TrueSlopes>,
 }
 
 /// Where the rover's camera sits and how wide it sees, for the cells it observed.
@@ -221,6 +226,12 @@ impl MissionTruth {
                 })
                 .collect()
         });
+        let slopes = generated.as_ref().and_then(|world| {
+            let geometry = map_geometry(mapper.as_ref()?)?;
+            Some(TrueSlopes::new(&geometry, &body, |x, y| {
+                world.ground_height_at(x, y)
+            }))
+        });
         Some(Self {
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
@@ -243,21 +254,27 @@ impl MissionTruth {
                     yaw_rad: camera.rover_mount.yaw_rad,
                     half_fov_rad: 0.5 * camera.rover.hfov_rad,
                 }),
+            slopes,
         })
     }
 
     /// The mapper's grid, as the planner places it (`None` when the mapper config is invalid).
     pub fn map_geometry(&self) -> Option<MapGeometry> {
-        let grid = hopnav_mapper::config::grid_geometry(self.mapper.as_ref()?).ok()?;
-        MapGeometry::new(
-            grid.origin_x_m,
-            grid.origin_y_m,
-            grid.cell_size_m,
-            grid.width_cells,
-            grid.height_cells,
-        )
-        .ok()
+        map_geometry(self.mapper.as_ref()?)
     }
+}
+
+/// The grid of `mapper`, as the planner places it (`None` when it is invalid).
+fn map_geometry(mapper: &MapperConfig) -> Option<MapGeometry> {
+    let grid = hopnav_mapper::config::grid_geometry(mapper).ok()?;
+    MapGeometry::new(
+        grid.origin_x_m,
+        grid.origin_y_m,
+        grid.cell_size_m,
+        grid.width_cells,
+        grid.height_cells,
+    )
+    .ok()
 }
 
 /// Scores `record` against `truth`.
@@ -335,6 +352,12 @@ fn judge_blocked_area(
         size_m,
         truth.climbable_height_m,
         truth.inscribed_m,
+        |centre_m| {
+            truth
+                .slopes
+                .as_ref()
+                .is_some_and(|slopes| slopes.class_at_m(centre_m) == SlopeClass::TooSteep)
+        },
     )
 }
 
@@ -380,6 +403,7 @@ fn full_knowledge(truth: &MissionTruth, rocks: &[RockFootprint]) -> Option<FullK
     full_knowledge_path(
         rocks,
         truth.climbable_height_m,
+        truth.slopes.as_ref().map_or(&[][..], TrueSlopes::classes),
         &geometry,
         &kernel,
         truth.start_m?,

@@ -23,7 +23,7 @@
 //!     })
 //!     .collect();
 //! let track = Reach::NearTrack(&[[0.0, -1.5], [0.0, 1.5]]);
-//! let result = blocked_area(&cells, &[rock], &track, 0.25, 0.2, 0.4);
+//! let result = blocked_area(&cells, &[rock], &track, 0.25, 0.2, 0.4, |_| false);
 //! assert_eq!(result.blocked_area_ratio, Some(1.0));
 //! assert_eq!((result.missed_lethal_cells, result.false_lethal_cells), (0, 0));
 //! ```
@@ -170,7 +170,8 @@ impl BlockedArea {
 }
 
 /// Judges the `cells` (a grid of `cell_size_m`) that `reach` covers against the `rocks`
-/// taller than `climb_limit_m`, for a rover of `inscribed_m`.
+/// taller than `climb_limit_m`, for a rover of `inscribed_m`, and against the ground
+/// `too_steep(centre_m)` says the rover's centre cannot stand on.
 pub fn blocked_area(
     cells: &[MapCell],
     rocks: &[RockEllipse],
@@ -178,6 +179,7 @@ pub fn blocked_area(
     cell_size_m: f64,
     climb_limit_m: f64,
     inscribed_m: f64,
+    too_steep: impl Fn([f64; 2]) -> bool,
 ) -> BlockedArea {
     let blocking: Vec<&RockEllipse> = rocks
         .iter()
@@ -190,9 +192,10 @@ pub fn blocked_area(
             continue;
         }
         result.judged_cells += 1;
-        let truly_lethal = blocking
-            .iter()
-            .any(|rock| rock.gap_m(cell.centre_m) < inscribed_m);
+        let truly_lethal = too_steep(cell.centre_m)
+            || blocking
+                .iter()
+                .any(|rock| rock.gap_m(cell.centre_m) < inscribed_m);
         if cell.lethal {
             result.mapped_lethal_m2 += cell_m2;
         }
@@ -275,6 +278,7 @@ mod tests {
             0.25,
             0.2,
             0.4,
+            |_| false,
         );
         let ratio = result.blocked_area_ratio.unwrap();
         assert!((1.7..2.3).contains(&ratio), "{ratio}");
@@ -292,11 +296,40 @@ mod tests {
             0.25,
             0.2,
             0.4,
+            |_| false,
         );
         assert!(result.true_lethal_cells > 0, "the tall rock only");
         assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
         assert_eq!(result.missed_lethal_percent(), Some(100.0));
         assert_eq!(result.blocked_area_ratio, Some(0.0));
+    }
+
+    #[test]
+    fn ground_too_steep_to_stand_on_is_truly_lethal_without_a_rock() {
+        // A crater's wall along x > 1: a map that shuts it is right, one that leaves it open
+        // misses it.
+        let steep = |centre_m: [f64; 2]| centre_m[0] > 1.0;
+        let shut = blocked_area(
+            &grid(|c| c[0] > 1.0),
+            &[],
+            &Reach::NearTrack(&[[0.0, 0.0]]),
+            0.25,
+            0.2,
+            0.4,
+            steep,
+        );
+        assert!(shut.true_lethal_cells > 0);
+        assert_eq!((shut.missed_lethal_cells, shut.false_lethal_cells), (0, 0));
+        let open = blocked_area(
+            &grid(|_| false),
+            &[],
+            &Reach::NearTrack(&[[0.0, 0.0]]),
+            0.25,
+            0.2,
+            0.4,
+            steep,
+        );
+        assert_eq!(open.missed_lethal_cells, open.true_lethal_cells);
     }
 
     #[test]
@@ -309,6 +342,7 @@ mod tests {
             0.25,
             0.2,
             0.4,
+            |_| false,
         );
         assert_eq!(result.judged_cells, 0);
         assert_eq!(result.blocked_area_ratio, None);
@@ -335,6 +369,7 @@ mod tests {
             0.25,
             0.2,
             0.4,
+            |_| false,
         );
         // Lethal, only costly, not seen; the fourth is beyond 5 m of the track.
         assert_eq!(result.rocks_by_outcome, [1, 1, 0, 1]);
@@ -356,7 +391,7 @@ mod tests {
         assert!(!reach.covers([-3.0, 0.0]), "behind the camera");
         assert!(!reach.covers([5.5, 0.0]), "beyond reach");
         let rocks = [rock(3.0, 0.0, 0.3, 0.5), rock(-3.0, 0.0, 0.3, 0.5)];
-        let result = blocked_area(&grid(|_| false), &rocks, &reach, 0.25, 0.2, 0.4);
+        let result = blocked_area(&grid(|_| false), &rocks, &reach, 0.25, 0.2, 0.4, |_| false);
         // Only the rock ahead counts, missed.
         assert_eq!(result.rocks_by_outcome, [0, 0, 1, 0]);
         assert!(result.true_lethal_cells > 0);

@@ -117,17 +117,7 @@ mod tests {
     fn exact_recovery() {
         let pose = Isometry3::new(Vector3::new(-0.3, 0.1, 1.0), Vector3::new(0.1, -0.05, 0.2));
         let pts = crate::synthetic::random_points_in_box(30, 3.0, 3.0, 9.0, 4);
-        let x1: Vec<_> = pts
-            .iter()
-            .map(|p| Vector2::new(p.x / p.z, p.y / p.z))
-            .collect();
-        let x2: Vec<_> = pts
-            .iter()
-            .map(|p| {
-                let q = pose * p;
-                Vector2::new(q.x / q.z, q.y / q.z)
-            })
-            .collect();
+        let (x1, x2) = crate::synthetic::exact_views(&pose, &pts);
         let idx: Vec<usize> = (0..30).collect();
         let e = essential_eight_point(&x1, &x2, &idx).unwrap();
         let truth = essential_from_pose(&pose).normalize();

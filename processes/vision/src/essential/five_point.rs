@@ -363,17 +363,7 @@ mod tests {
                 ),
             );
             let pts = crate::synthetic::random_points_in_box(5, 2.0, 4.0, 10.0, trial);
-            let x1: Vec<_> = pts
-                .iter()
-                .map(|p| Vector2::new(p.x / p.z, p.y / p.z))
-                .collect();
-            let x2: Vec<_> = pts
-                .iter()
-                .map(|p| {
-                    let q = pose * p;
-                    Vector2::new(q.x / q.z, q.y / q.z)
-                })
-                .collect();
+            let (x1, x2) = crate::synthetic::exact_views(&pose, &pts);
             let mut sols = Vec::new();
             essential_five_point(&x1, &x2, &[0, 1, 2, 3, 4], &mut sols);
             assert!(sols.len() <= 10);

@@ -50,6 +50,16 @@ pub struct PlotError {
     pub message: String,
 }
 
+impl PlotError {
+    /// The error of drawing into `path`, for `map_err`.
+    pub fn writing(path: &Path) -> impl Fn(String) -> PlotError + Copy + '_ {
+        move |message| PlotError {
+            path: path.display().to_string(),
+            message,
+        }
+    }
+}
+
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -93,25 +103,24 @@ pub fn register_font() -> Result<(), String> {
 
 /// Draws `plot` into an SVG file at `path`.
 pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
-    let error = |message: String| PlotError {
-        path: path.display().to_string(),
-        message,
-    };
     // Text is laid out with the embedded font's metrics even in SVG.
-    register_font().map_err(error)?;
-    let root = SVGBackend::new(path, (960, 600)).into_drawing_area();
-    draw(root, plot).map_err(error)
+    draw_into(path, plot, || SVGBackend::new(path, (960, 600)))
 }
 
 /// Draws `plot` into a PNG file at `path`.
 pub fn write_png(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
-    let error = |message: String| PlotError {
-        path: path.display().to_string(),
-        message,
-    };
+    draw_into(path, plot, || BitMapBackend::new(path, (1200, 750)))
+}
+
+/// Registers the font, then draws `plot` on the backend `open` makes for `path`.
+fn draw_into<DB: DrawingBackend>(
+    path: &Path,
+    plot: &LinePlot<'_>,
+    open: impl FnOnce() -> DB,
+) -> Result<(), PlotError> {
+    let error = PlotError::writing(path);
     register_font().map_err(error)?;
-    let root = BitMapBackend::new(path, (1200, 750)).into_drawing_area();
-    draw(root, plot).map_err(error)
+    draw(open().into_drawing_area(), plot).map_err(error)
 }
 
 /// Draws `plot` on any plotters drawing area (SVG, PNG, or a panel of a larger figure).

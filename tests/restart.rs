@@ -10,9 +10,7 @@ use common::*;
 
 /// A lockstep launch of `frames` frames of `config`, running in the background.
 fn spawn_lockstep(out: &Path, run: &str, config: &str, frames: &str) -> Child {
-    launch_command(out, run, &[config, "--lockstep", "--frames", frames])
-        .spawn()
-        .expect("spawn launch")
+    spawn_launch(out, run, &[config, "--lockstep", "--frames", frames])
 }
 
 /// The pids of `run`'s probe sinks that serve (a prepared standby does not).

@@ -54,6 +54,13 @@ pub fn launch_command(out: &Path, run_id: &str, args: &[&str]) -> Command {
     command
 }
 
+/// `hopnav launch` with the given arguments, started in the background.
+pub fn spawn_launch(out: &Path, run_id: &str, args: &[&str]) -> Child {
+    launch_command(out, run_id, args)
+        .spawn()
+        .expect("spawn launch")
+}
+
 /// Runs a launch to completion.
 pub fn launch(out: &Path, run_id: &str, args: &[&str]) -> Output {
     launch_command(out, run_id, args)

@@ -213,33 +213,19 @@ mod tests {
             label: "transport".into(),
             points: vec![(64.0, 0.01), (4096.0, 0.011), (4.0e6, 0.012)],
         }];
-        write_svg(
-            &path,
-            &LinePlot {
-                title: "latency",
-                x_label: "payload bytes",
-                y_label: "p50 ms",
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
-                series: &series,
-            },
-        )
-        .expect("plot");
+        let plot = LinePlot {
+            title: "latency",
+            x_label: "payload bytes",
+            y_label: "p50 ms",
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            series: &series,
+        };
+        write_svg(&path, &plot).expect("plot");
         let svg = std::fs::read_to_string(&path).expect("read");
         assert!(svg.contains("<svg") && svg.contains("latency") && svg.contains("transport"));
         let png_path = dir.join("plot.png");
-        write_png(
-            &png_path,
-            &LinePlot {
-                title: "latency",
-                x_label: "payload bytes",
-                y_label: "p50 ms",
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
-                series: &series,
-            },
-        )
-        .expect("png");
+        write_png(&png_path, &plot).expect("png");
         let png = std::fs::read(&png_path).expect("read png");
         assert_eq!(&png[1..4], b"PNG");
         std::fs::remove_dir_all(&dir).ok();

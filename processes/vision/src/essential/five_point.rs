@@ -203,17 +203,7 @@ fn null_space_basis(
     let mut q = SMatrix::<f64, 9, 9>::zeros();
     for (r, &i) in indices.iter().take(5).enumerate() {
         let (a, b) = (x1.get(i)?, x2.get(i)?);
-        let row = [
-            b.x * a.x,
-            b.x * a.y,
-            b.x,
-            b.y * a.x,
-            b.y * a.y,
-            b.y,
-            a.x,
-            a.y,
-            1.0,
-        ];
+        let row = super::epipolar_row([a.x, a.y], [b.x, b.y]);
         for (c, v) in row.iter().enumerate() {
             q[(r, c)] = *v;
         }

@@ -133,31 +133,18 @@ fn a_step_asleep_beyond_the_watchdog_is_a_hang() {
 #[test]
 fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
     let (out, run) = (out_dir("fault-bad"), run_id("fault-bad"));
-    let output = launch(
-        &out,
-        &run,
-        &[
-            &probe_config(),
-            "--frames",
-            "5",
-            "--fault",
-            "kill:mapper@1s",
-        ],
-    );
+    let with_fault = |fault: &str| {
+        launch(
+            &out,
+            &run,
+            &[&probe_config(), "--frames", "5", "--fault", fault],
+        )
+    };
+    let output = with_fault("kill:mapper@1s");
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("not an enabled process"), "{stderr}");
-    let output = launch(
-        &out,
-        &run,
-        &[
-            &probe_config(),
-            "--frames",
-            "5",
-            "--fault",
-            "kill:probe_sink",
-        ],
-    );
+    let output = with_fault("kill:probe_sink");
     assert_eq!(output.status.code(), Some(2));
 }
 

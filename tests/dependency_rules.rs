@@ -195,166 +195,99 @@ fn only_the_runtime_uses_iceoryx2_directly() {
     );
 }
 
+/// Whether a dependency is expected to pass the rules.
+const ALLOWED: bool = true;
+const FORBIDDEN: bool = false;
+
+/// Asserts the rules' verdict on each dependency `(from crate, to crate, expected)`, listing
+/// every one they judge otherwise.
+fn assert_verdicts(cases: &[(&str, &str, bool)]) {
+    let layer = |name: &str| layer_of(name).unwrap_or_else(|| panic!("{name} has no layer"));
+    let wrong: Vec<String> = cases
+        .iter()
+        .filter(|&&(from, to, expected)| allowed(layer(from), from, layer(to), to) != expected)
+        .map(|(from, to, expected)| format!("{from} -> {to}: expected allowed = {expected}"))
+        .collect();
+    assert!(wrong.is_empty(), "the rules judge otherwise: {wrong:#?}");
+}
+
 #[test]
-fn the_rules_reject_what_the_architecture_forbids() {
+fn the_runtime_imports_no_algorithm() {
+    assert_verdicts(&[
+        // The supervisor imports no algorithm and no evaluation; it reads messages and config.
+        ("hopnav-supervisor", "hopnav-mapper", FORBIDDEN),
+        ("hopnav-supervisor", "hopnav-mapper-node", FORBIDDEN),
+        ("hopnav-supervisor", "hopnav-world", FORBIDDEN),
+        ("hopnav-supervisor", "hopnav-eval", FORBIDDEN),
+        ("hopnav-supervisor", "hopnav-ipc", ALLOWED),
+        // The message layer knows no supervisor; the config knows nothing.
+        ("hopnav-ipc", "hopnav-supervisor", FORBIDDEN),
+        ("hopnav-config", "hopnav-ipc", FORBIDDEN),
+    ]);
+}
+
+#[test]
+fn an_algorithm_crate_imports_nothing_of_another_process() {
+    assert_verdicts(&[
+        // No algorithm crate imports another process's algorithms, a node, the supervisor or the
+        // evaluation.
+        ("hopnav-mapper", "hopnav-planner", FORBIDDEN),
+        ("hopnav-mapper", "hopnav-mapper-node", FORBIDDEN),
+        ("hopnav-mapper", "hopnav-planner-node", FORBIDDEN),
+        ("hopnav-mapper", "hopnav-supervisor", FORBIDDEN),
+        ("hopnav-mapper", "hopnav-eval", FORBIDDEN),
+        ("hopnav-mapper", "hopnav-world", ALLOWED),
+        ("hopnav-mapper", "hopnav-ipc", ALLOWED),
+        ("hopnav-planner", "hopnav-ipc", FORBIDDEN),
+        ("hopnav-planner", "hopnav-config", ALLOWED),
+    ]);
+}
+
+#[test]
+fn a_node_binds_only_its_own_algorithms() {
+    assert_verdicts(&[
+        // A node binds its own algorithms and nothing of another process.
+        ("hopnav-mapper-node", "hopnav-mapper", ALLOWED),
+        ("hopnav-mapper-node", "hopnav-planner", FORBIDDEN),
+        ("hopnav-mapper-node", "hopnav-planner-node", FORBIDDEN),
+        ("hopnav-recorder", "hopnav-mapper", FORBIDDEN),
+        ("hopnav-mapper-node", "hopnav-supervisor", FORBIDDEN),
+        ("hopnav-mapper-node", "hopnav-eval", FORBIDDEN),
+        ("hopnav-mapper-node", "hopnav-ipc", ALLOWED),
+    ]);
+}
+
+#[test]
+fn a_shared_library_reads_no_process_and_no_message() {
+    assert_verdicts(&[
+        // A shared library reads no process's crates and no messages (of the runtime, only
+        // the config).
+        ("hopnav-world", "hopnav-physics", FORBIDDEN),
+        ("hopnav-world", "hopnav-ipc", FORBIDDEN),
+    ]);
+}
+
+#[test]
+fn the_evaluation_reads_algorithms_never_a_node() {
+    assert_verdicts(&[
+        // The evaluation reads the runtime's record and the algorithms, never a node; nothing
+        // imports the binary.
+        ("hopnav-eval", "hopnav-supervisor", ALLOWED),
+        ("hopnav-eval", "hopnav-jumper-vo", ALLOWED),
+        ("hopnav-eval", "hopnav-mapper-node", FORBIDDEN),
+        ("hopnav-eval", "hopnav-recorder", FORBIDDEN),
+        ("hopnav-eval", "hopnav", FORBIDDEN),
+    ]);
+}
+
+#[test]
+fn the_iceoryx2_rule_admits_the_runtime_alone() {
     use Layer::*;
-    // The supervisor imports no algorithm and no evaluation; it reads messages and config.
-    assert!(!allowed(
-        Runtime,
-        "hopnav-supervisor",
-        Algorithm,
-        "hopnav-mapper"
-    ));
-    assert!(!allowed(
-        Runtime,
-        "hopnav-supervisor",
-        Node,
-        "hopnav-mapper-node"
-    ));
-    assert!(!allowed(
-        Runtime,
-        "hopnav-supervisor",
-        SharedLibrary,
-        "hopnav-world"
-    ));
-    assert!(!allowed(
-        Runtime,
-        "hopnav-supervisor",
-        Evaluation,
-        "hopnav-eval"
-    ));
-    assert!(allowed(Runtime, "hopnav-supervisor", Runtime, "hopnav-ipc"));
-    // The message layer knows no supervisor; the config knows nothing.
-    assert!(!allowed(
-        Runtime,
-        "hopnav-ipc",
-        Runtime,
-        "hopnav-supervisor"
-    ));
-    assert!(!allowed(Runtime, "hopnav-config", Runtime, "hopnav-ipc"));
-    // No algorithm crate imports another process's algorithms, a node, the supervisor or the
-    // evaluation.
-    assert!(!allowed(
-        Algorithm,
-        "hopnav-mapper",
-        Algorithm,
-        "hopnav-planner"
-    ));
-    assert!(!allowed(
-        Algorithm,
-        "hopnav-mapper",
-        Node,
-        "hopnav-mapper-node"
-    ));
-    assert!(!allowed(
-        Algorithm,
-        "hopnav-mapper",
-        Node,
-        "hopnav-planner-node"
-    ));
-    assert!(!allowed(
-        Algorithm,
-        "hopnav-mapper",
-        Runtime,
-        "hopnav-supervisor"
-    ));
-    assert!(!allowed(
-        Algorithm,
-        "hopnav-mapper",
-        Evaluation,
-        "hopnav-eval"
-    ));
-    assert!(allowed(
-        Algorithm,
-        "hopnav-mapper",
-        SharedLibrary,
-        "hopnav-world"
-    ));
-    assert!(allowed(Algorithm, "hopnav-mapper", Runtime, "hopnav-ipc"));
-    assert!(!allowed(Algorithm, "hopnav-planner", Runtime, "hopnav-ipc"));
-    assert!(allowed(
-        Algorithm,
-        "hopnav-planner",
-        Runtime,
-        "hopnav-config"
-    ));
-    // A node binds its own algorithms and nothing of another process.
-    assert!(allowed(
-        Node,
-        "hopnav-mapper-node",
-        Algorithm,
-        "hopnav-mapper"
-    ));
-    assert!(!allowed(
-        Node,
-        "hopnav-mapper-node",
-        Algorithm,
-        "hopnav-planner"
-    ));
-    assert!(!allowed(
-        Node,
-        "hopnav-mapper-node",
-        Node,
-        "hopnav-planner-node"
-    ));
-    assert!(!allowed(
-        Node,
-        "hopnav-recorder",
-        Algorithm,
-        "hopnav-mapper"
-    ));
-    assert!(!allowed(
-        Node,
-        "hopnav-mapper-node",
-        Runtime,
-        "hopnav-supervisor"
-    ));
-    assert!(!allowed(
-        Node,
-        "hopnav-mapper-node",
-        Evaluation,
-        "hopnav-eval"
-    ));
-    assert!(allowed(Node, "hopnav-mapper-node", Runtime, "hopnav-ipc"));
-    assert!(!allowed(
-        SharedLibrary,
-        "hopnav-world",
-        Algorithm,
-        "hopnav-physics"
-    ));
-    assert!(!allowed(
-        SharedLibrary,
-        "hopnav-world",
-        Runtime,
-        "hopnav-ipc"
-    ));
-    // The evaluation reads the runtime's record and the algorithms, never a node; nothing
-    // imports the binary.
-    assert!(allowed(
-        Evaluation,
-        "hopnav-eval",
-        Runtime,
-        "hopnav-supervisor"
-    ));
-    assert!(allowed(
-        Evaluation,
-        "hopnav-eval",
-        Algorithm,
-        "hopnav-jumper-vo"
-    ));
-    assert!(!allowed(
-        Evaluation,
-        "hopnav-eval",
-        Node,
-        "hopnav-mapper-node"
-    ));
-    assert!(!allowed(Evaluation, "hopnav-eval", Node, "hopnav-recorder"));
     // Only the runtime (and the benchmark of raw iceoryx2) touches iceoryx2 itself.
     assert!(may_use_iceoryx2_directly(Runtime, "hopnav-ipc"));
     assert!(!may_use_iceoryx2_directly(Evaluation, "hopnav-eval"));
     assert!(!may_use_iceoryx2_directly(Node, "hopnav-mapper-node"));
     assert!(!may_use_iceoryx2_directly(Algorithm, "hopnav-mapper"));
-    assert!(!allowed(Evaluation, "hopnav-eval", Cli, "hopnav"));
 }
 
 /// Every `.rs` file under `dir`, in subfolders too.

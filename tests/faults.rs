@@ -20,10 +20,7 @@ fn launch_strict(
     fault: &str,
 ) -> (String, std::process::Output, serde_json::Value) {
     let (out, run) = (out_dir(name), run_id(name));
-    let config = format!(
-        "{}/tests/fixtures/config/valid/strict_supervision.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let config = fixture_config("valid/strict_supervision.toml");
     let output = launch(
         &out,
         &run,
@@ -91,8 +88,7 @@ fn every_fault_kind_is_executed_recorded_and_survived() {
         .unwrap();
     assert!(source_p50_ms >= 5.0, "{source_p50_ms}");
 
-    assert_eq!(report["leftover_files"], 0);
-    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+    assert_nothing_left(&report, &run);
 }
 
 #[test]
@@ -114,8 +110,7 @@ fn a_stall_beyond_the_watchdog_is_a_hang_and_is_restarted() {
         reason.starts_with("hung (stopped, no heartbeat for"),
         "{reason}"
     );
-    assert_eq!(report["leftover_files"], 0);
-    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+    assert_nothing_left(&report, &run);
 }
 
 #[test]
@@ -138,31 +133,18 @@ fn a_step_asleep_beyond_the_watchdog_is_a_hang() {
 #[test]
 fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
     let (out, run) = (out_dir("fault-bad"), run_id("fault-bad"));
-    let output = launch(
-        &out,
-        &run,
-        &[
-            &probe_config(),
-            "--frames",
-            "5",
-            "--fault",
-            "kill:mapper@1s",
-        ],
-    );
+    let with_fault = |fault: &str| {
+        launch(
+            &out,
+            &run,
+            &[&probe_config(), "--frames", "5", "--fault", fault],
+        )
+    };
+    let output = with_fault("kill:mapper@1s");
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("not an enabled process"), "{stderr}");
-    let output = launch(
-        &out,
-        &run,
-        &[
-            &probe_config(),
-            "--frames",
-            "5",
-            "--fault",
-            "kill:probe_sink",
-        ],
-    );
+    let output = with_fault("kill:probe_sink");
     assert_eq!(output.status.code(), Some(2));
 }
 
@@ -175,10 +157,7 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
 fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
     let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
     // Kills are the faults here: a loaded machine that delays a frame must not add a hang.
-    let patient = format!(
-        "{}/tests/fixtures/config/valid/patient_watchdog.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let patient = fixture_config("valid/patient_watchdog.toml");
     let output = launch(
         &out,
         &run,
@@ -230,8 +209,7 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
         stderr.contains("mapper: took in "),
         "no clouds replayed after the mapper's restart\n{stderr}"
     );
-    assert_eq!(report["leftover_files"], 0);
-    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+    assert_nothing_left(&report, &run);
 }
 
 /// The default mission in lockstep with rover_vo killed while the rover drives: the restarted
@@ -336,6 +314,5 @@ fn a_killed_physics_resumes_its_simulation_instead_of_starting_over() {
             );
         }
     }
-    assert_eq!(report["leftover_files"], 0);
-    assert!(pids_with_args(&[&run]).is_empty(), "no process survives");
+    assert_nothing_left(&report, &run);
 }

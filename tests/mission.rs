@@ -74,10 +74,7 @@ fn the_default_cooperative_mission_reaches_the_goal() {
 #[test]
 fn the_rover_only_baseline_keeps_the_jumper_on_the_ground() {
     let (out, run) = (out_dir("mission-rover-only"), run_id("mission-ro"));
-    let config = format!(
-        "{}/tests/fixtures/config/missions/rover_only.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let config = fixture_config("missions/rover_only.toml");
     let output = launch(&out, &run, &[&config, "--lockstep", "--frames", "300"]);
     let report = report(&out, &run);
     assert!(output.status.success(), "{report:#}");
@@ -125,10 +122,7 @@ fn median(mut values: Vec<f64>) -> f64 {
 
 #[test]
 fn the_relocalization_oracle_starts_every_hop_at_the_true_launch_point() {
-    let oracle_config = format!(
-        "{}/tests/fixtures/config/missions/oracle_relocalization.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let oracle_config = fixture_config("missions/oracle_relocalization.toml");
     let mut median_error_m = Vec::new();
     for (name, config) in [("vo", None), ("oracle", Some(oracle_config.as_str()))] {
         let (out, run) = (

@@ -12,8 +12,9 @@ fn fixture(name: &str) -> String {
     )
 }
 
-#[test]
-fn static_scenarios_match_their_optimum() {
+/// `hopnav plan` on the tiny fixture and its scenarios, with `extra` options; its output,
+/// after it succeeded.
+fn plan_tiny(extra: &[&str]) -> String {
     let output = hopnav()
         .args([
             "plan",
@@ -22,29 +23,23 @@ fn static_scenarios_match_their_optimum() {
             "--scen",
             &fixture("tiny.map.scen"),
         ])
+        .args(extra)
         .output()
         .expect("run");
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     assert!(output.status.success(), "{stdout}");
+    stdout
+}
+
+#[test]
+fn static_scenarios_match_their_optimum() {
+    let stdout = plan_tiny(&[]);
     assert!(stdout.contains("6 scenarios, 0 mismatches"), "{stdout}");
 }
 
 #[test]
 fn dynamic_mode_compares_dstar_lite_with_repeated_astar() {
-    let output = hopnav()
-        .args([
-            "plan",
-            "--map",
-            &fixture("tiny.map"),
-            "--scen",
-            &fixture("tiny.map.scen"),
-            "--dynamic",
-            "3",
-        ])
-        .output()
-        .expect("run");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}");
+    let stdout = plan_tiny(&["--dynamic", "3"]);
     assert!(
         stdout.contains("D* Lite ") && stdout.contains("A* (every change)"),
         "{stdout}"

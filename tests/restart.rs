@@ -2,30 +2,42 @@
 
 mod common;
 
+use std::path::Path;
+use std::process::Child;
 use std::time::Duration;
 
 use common::*;
+
+/// A lockstep launch of `frames` frames of `config`, running in the background.
+fn spawn_lockstep(out: &Path, run: &str, config: &str, frames: &str) -> Child {
+    spawn_launch(out, run, &[config, "--lockstep", "--frames", frames])
+}
+
+/// The pids of `run`'s probe sinks that serve (a prepared standby does not).
+fn serving_sinks(run: &str) -> Vec<i32> {
+    serving_pids_with_args(&["run", "probe_sink", run])
+}
+
+/// Waits until `run` has exactly one serving probe sink, lets it work for `settle`, and
+/// returns its pid.
+fn the_serving_sink(run: &str, settle: Duration) -> i32 {
+    assert!(
+        wait_until(Duration::from_secs(20), || serving_sinks(run).len() == 1),
+        "the sink never started"
+    );
+    std::thread::sleep(settle);
+    let sinks = serving_sinks(run);
+    assert_eq!(sinks.len(), 1);
+    sinks[0]
+}
 
 #[test]
 fn killed_child_is_restarted_and_the_launch_completes() {
     let (out, run) = (out_dir("restart"), run_id("restart"));
     // Lockstep, long enough that the kill lands mid-run even on a fast machine.
-    let mut child = launch_command(
-        &out,
-        &run,
-        &[&probe_config(), "--lockstep", "--frames", "3000"],
-    )
-    .spawn()
-    .expect("spawn launch");
-    let sink = || serving_pids_with_args(&["run", "probe_sink", &run]);
-    assert!(
-        wait_until(Duration::from_secs(20), || !sink().is_empty()),
-        "sink never started"
-    );
-    std::thread::sleep(Duration::from_millis(300));
-    let victims = sink();
-    assert_eq!(victims.len(), 1);
-    signal(victims[0], libc::SIGKILL);
+    let mut child = spawn_lockstep(&out, &run, &probe_config(), "3000");
+    let victim = the_serving_sink(&run, Duration::from_millis(300));
+    signal(victim, libc::SIGKILL);
 
     let status = wait_with_limit(&mut child, Duration::from_secs(300)).expect("launch finished");
     let report = report(&out, &run);
@@ -43,38 +55,20 @@ fn killed_child_is_restarted_and_the_launch_completes() {
     // Lockstep starts once the standbys have prepared: the restart is a promotion.
     assert_eq!(exit["restart"], "standby", "{exit}");
     assert!(exit["startup_s"].as_f64().is_some(), "{exit}");
-    assert_eq!(report["leftover_files"], 0);
-    assert!(
-        pids_with_args(&[&run]).is_empty(),
-        "no process of the run survives"
-    );
-}
-
-fn strict_config() -> String {
-    format!(
-        "{}/tests/fixtures/config/valid/strict_supervision.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
+    assert_nothing_left(&report, &run);
 }
 
 #[test]
 fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
     let (out, run) = (out_dir("crash-loop"), run_id("crash-loop"));
-    let config = strict_config();
-    let mut child = launch_command(&out, &run, &[&config, "--lockstep", "--frames", "100000"])
-        .spawn()
-        .expect("spawn launch");
-    let sink = || serving_pids_with_args(&["run", "probe_sink", &run]);
-    for kill in 0..2 {
-        assert!(
-            wait_until(Duration::from_secs(20), || sink().len() == 1),
-            "sink {kill} never started"
-        );
-        std::thread::sleep(Duration::from_millis(200));
-        let victims = sink();
-        assert_eq!(victims.len(), 1);
-        signal(victims[0], libc::SIGKILL);
-        assert!(wait_until(Duration::from_secs(10), || !sink().contains(&victims[0])));
+    let config = fixture_config("valid/strict_supervision.toml");
+    let mut child = spawn_lockstep(&out, &run, &config, "100000");
+    for _ in 0..2 {
+        let victim = the_serving_sink(&run, Duration::from_millis(200));
+        signal(victim, libc::SIGKILL);
+        assert!(wait_until(Duration::from_secs(10), || {
+            !serving_sinks(&run).contains(&victim)
+        }));
     }
     let status = wait_with_limit(&mut child, Duration::from_secs(60)).expect("launch stopped");
     assert_eq!(status.code(), Some(1));
@@ -85,25 +79,15 @@ fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
         "{outcome}"
     );
     assert!(outcome.contains("restart.max_restarts = 1"), "{outcome}");
-    assert!(
-        pids_with_args(&[&run]).is_empty(),
-        "orphans: {:?}",
-        pids_with_args(&[&run])
-    );
-    assert_eq!(report["leftover_files"], 0);
+    assert_nothing_left(&report, &run);
 }
 
 #[test]
 fn a_hung_child_is_detected_by_the_watchdog_killed_and_restarted() {
     let (out, run) = (out_dir("hang"), run_id("hang"));
-    let config = strict_config();
-    let mut child = launch_command(&out, &run, &[&config, "--lockstep", "--frames", "3000"])
-        .spawn()
-        .expect("spawn launch");
-    let sink = || serving_pids_with_args(&["run", "probe_sink", &run]);
-    assert!(wait_until(Duration::from_secs(20), || sink().len() == 1));
-    std::thread::sleep(Duration::from_millis(200));
-    let frozen = sink()[0];
+    let config = fixture_config("valid/strict_supervision.toml");
+    let mut child = spawn_lockstep(&out, &run, &config, "3000");
+    let frozen = the_serving_sink(&run, Duration::from_millis(200));
     signal(frozen, libc::SIGSTOP); // alive but silent: a hang
     let status = wait_with_limit(&mut child, Duration::from_secs(300)).expect("launch finished");
     let report = report(&out, &run);
@@ -123,15 +107,9 @@ fn a_hung_child_is_detected_by_the_watchdog_killed_and_restarted() {
 #[test]
 fn a_dead_standby_leaves_cold_restarts_and_the_launch_completes() {
     let (out, run) = (out_dir("dead-standby"), run_id("dead-standby"));
-    let mut child = launch_command(
-        &out,
-        &run,
-        &[&probe_config(), "--lockstep", "--frames", "3000"],
-    )
-    .spawn()
-    .expect("spawn launch");
+    let mut child = spawn_lockstep(&out, &run, &probe_config(), "3000");
     let all_sinks = || pids_with_args(&["run", "probe_sink", &run]);
-    let serving = || serving_pids_with_args(&["run", "probe_sink", &run]);
+    let serving = || serving_sinks(&run);
     assert!(
         wait_until(Duration::from_secs(20), || all_sinks().len() == 2),
         "sink and its standby never started"
@@ -153,6 +131,5 @@ fn a_dead_standby_leaves_cold_restarts_and_the_launch_completes() {
     assert_eq!(report["frames_completed"], 3000);
     let exit = &process(&report, "probe_sink")["exits"][0];
     assert_eq!(exit["restart"], "cold", "{exit}");
-    assert_eq!(report["leftover_files"], 0);
-    assert!(pids_with_args(&[&run]).is_empty());
+    assert_nothing_left(&report, &run);
 }

@@ -11,9 +11,7 @@ use common::*;
 fn shared_memory_is_not_readable_by_other_users() {
     let (out, run) = (out_dir("shm-perms"), run_id("shm-perms"));
     // Real time, so the launch is still running while we look.
-    let mut child = launch_command(&out, &run, &[&probe_config(), "--frames", "40"])
-        .spawn()
-        .expect("spawn launch");
+    let mut child = spawn_launch(&out, &run, &[&probe_config(), "--frames", "40"]);
     let files = || leftover_files(&run);
     // Look once the graph runs. (iceoryx2 makes its per-namespace management segment
     // world-accessible on purpose the moment the supervisor creates its first node; the

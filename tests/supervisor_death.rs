@@ -3,25 +3,30 @@
 
 mod common;
 
+use std::path::Path;
+use std::process::Child;
 use std::time::Duration;
 
 use common::*;
 
+/// A real-time launch of the probe graph, far longer than the test, once both its children
+/// serve.
+fn running_probe_graph(out: &Path, run: &str) -> Child {
+    let supervisor = spawn_launch(out, run, &[&probe_config(), "--frames", "100000"]);
+    assert!(
+        wait_until(Duration::from_secs(20), || {
+            serving_pids_with_args(&["run", run]).len() == 2
+        }),
+        "children never started"
+    );
+    supervisor
+}
+
 #[test]
 fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
     let (out, run) = (out_dir("sigkill"), run_id("sigkill"));
-    let mut supervisor = launch_command(&out, &run, &[&probe_config(), "--frames", "100000"])
-        .spawn()
-        .expect("spawn launch");
+    let mut supervisor = running_probe_graph(&out, &run);
     let children = || pids_with_args(&["run", &run]);
-    assert!(
-        wait_until(Duration::from_secs(20), || serving_pids_with_args(&[
-            "run", &run
-        ])
-        .len()
-            == 2),
-        "children never started"
-    );
     std::thread::sleep(Duration::from_millis(300));
     assert!(
         !leftover_files(&run).is_empty(),
@@ -63,13 +68,8 @@ fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
 #[test]
 fn sigterm_stops_the_launch_cleanly_with_a_report() {
     let (out, run) = (out_dir("sigterm"), run_id("sigterm"));
-    let mut supervisor = launch_command(&out, &run, &[&probe_config(), "--frames", "100000"])
-        .spawn()
-        .expect("spawn launch");
+    let mut supervisor = running_probe_graph(&out, &run);
     let children = || pids_with_args(&["run", &run]);
-    assert!(wait_until(Duration::from_secs(20), || {
-        serving_pids_with_args(&["run", &run]).len() == 2
-    }));
     std::thread::sleep(Duration::from_millis(500));
     signal(supervisor.id() as i32, libc::SIGTERM);
     let status = wait_with_limit(&mut supervisor, Duration::from_secs(30)).expect("stopped");

@@ -6,7 +6,7 @@
 //! is a value) and, to get past the first check, from valid defaults with a few bytes
 //! overwritten and with slice lengths that match the header.
 
-use std::mem::{MaybeUninit, size_of};
+use std::mem::size_of;
 
 use hopnav_ipc::codec::{self, CodecError};
 use hopnav_ipc::messages::{
@@ -17,57 +17,14 @@ use hopnav_ipc::messages::{
 use hopnav_ipc::validate::{Message, Rejection, SequenceGuard, SliceHeader};
 use proptest::prelude::*;
 
-/// Types whose every bit pattern of `size_of::<Self>()` bytes is a valid value.
-///
-/// # Safety
-/// Implement only for `#[repr(C)]` types made of integers and floats alone (directly or through
-/// nested such types and arrays): no `bool`, `char`, enum, reference or pointer field.
-unsafe trait PlainOldData: Copy + Default {}
+#[path = "support/plain_old_data.rs"]
+mod plain_old_data;
 
-macro_rules! plain_old_data {
-    ($($type:ty),+ $(,)?) => {
-        $(
-            // SAFETY: every hopnav message is `#[repr(C)]` with only `u32`/`u64`/`f32`/`f64`
-            // fields and arrays of them (enumerations travel as `u32` codes), see
-            // `ipc/src/messages/mod.rs`; so any bit pattern is a valid value.
-            unsafe impl PlainOldData for $type {}
-        )+
-    };
-}
-
-plain_old_data!(
-    FrameTick,
-    Heartbeat,
-    BodyStates,
-    AltimeterSample,
-    ImuSample,
-    PoseEstimate,
-    DriveCommand,
-    JumpRequest,
-    HopLaunch,
-    PhysicsState,
-    Control,
-    ImageHeader,
-    CloudHeader,
-    MapHeader,
-    PathHeader,
-    FeaturePoint,
-    CellUpdate,
-    PathPoint,
-);
+use plain_old_data::{PlainOldData, take};
 
 /// A `T` holding `bytes` (zero-padded or truncated to its size).
 fn from_bytes<T: PlainOldData>(bytes: &[u8]) -> T {
-    let mut value = MaybeUninit::<T>::zeroed();
-    let len = bytes.len().min(size_of::<T>());
-    // SAFETY: `value` is `size_of::<T>()` writable bytes and `len` does not exceed that; the
-    // source is a distinct slice of at least `len` bytes, so the ranges do not overlap.
-    unsafe {
-        std::ptr::copy_nonoverlapping(bytes.as_ptr(), value.as_mut_ptr().cast::<u8>(), len);
-    }
-    // SAFETY: all `size_of::<T>()` bytes are initialized (zeroed, then partly overwritten) and
-    // `T: PlainOldData` promises that every bit pattern is a valid `T`.
-    unsafe { value.assume_init() }
+    take::<T>(bytes).0
 }
 
 /// The bytes of `value`.

@@ -9,17 +9,16 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
-use hopnav_config::MissionMode;
-use hopnav_eval::figure::mission_figure;
-use hopnav_eval::{MissionTruth, TruthEvaluator};
-use hopnav_metrics::map_plot::{Track, write_map_png};
-use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
+use hopnav_config::HopnavConfig;
 
 use crate::compare_expect::Expectations;
+use crate::compare_launch::run_missions;
 use crate::compare_pair::comparisons;
-use crate::compare_rows::{CompareRow, RunSet};
+use crate::compare_rows::RunSet;
 use crate::compare_table::{print_table, write_outputs};
-use crate::compare_variant::{RunSetPlan, VariantMode, mission_config, run_set_plans};
+use crate::compare_variant::{
+    Overlay, RunSetPlan, VariantError, VariantMode, mission_config, run_set_plans,
+};
 use crate::compare_verdict::{comparison_lines, verdict_lines};
 use crate::registry;
 use crate::setup;
@@ -105,16 +104,13 @@ pub struct CompareArgs {
 /// The targets file and its path, as printed in the verdict.
 type Targets = (String, Expectations);
 
+/// The variant's config and the modes it runs.
+type Variant = (HopnavConfig, VariantMode);
+
 pub fn run(args: CompareArgs) -> ExitCode {
-    let targets: Option<Targets> = match &args.expect {
-        None => None,
-        Some(path) => match crate::compare_expect::load(path) {
-            Ok(expect) => Some((path.display().to_string(), expect)),
-            Err(error) => {
-                eprintln!("error: {error}");
-                return ExitCode::from(crate::EXIT_CONFIG);
-            }
-        },
+    let targets = match load_targets(args.expect.as_deref()) {
+        Ok(targets) => targets,
+        Err(code) => return code,
     };
     if !args.pair.is_empty() {
         return pair_folders(&args.pair, targets.as_ref());
@@ -131,62 +127,109 @@ pub fn run(args: CompareArgs) -> ExitCode {
         );
         return ExitCode::from(crate::EXIT_CONFIG);
     }
-    let overlay = match args
-        .variant
-        .as_deref()
-        .map(crate::compare_variant::read_overlay)
-    {
-        Some(Err(error)) => {
-            eprintln!("error: {error}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
-        Some(Ok(overlay)) => Some(overlay),
-        None => None,
-    };
-    let variant = match &overlay {
-        None => None,
-        Some(overlay) => match crate::compare_variant::apply(&base, overlay) {
-            Ok(config) => Some((config, args.variant_mode.unwrap_or_default())),
-            Err(error) => {
-                eprintln!("error: {error}");
-                return ExitCode::from(crate::EXIT_CONFIG);
-            }
-        },
+    let (overlay, variant) = match variant_config(&args, &base) {
+        Ok(variant) => variant,
+        Err(code) => return code,
     };
     let plans = run_set_plans(&base, &args.out, variant);
-    // Every run's config is checked before the first launch.
-    for plan in &plans {
-        for index in 0..args.seeds {
-            let (seed, k) = seed_and_k(&args, index);
-            for mode in &plan.modes {
-                let config = mission_config(plan, args.frames, seed, k, *mode);
-                if let Err(error) = registry::check_sections(&config) {
-                    eprintln!("error: {} seed {seed}: {error}", plan.label);
-                    return ExitCode::from(crate::EXIT_CONFIG);
-                }
-            }
-        }
+    let seeds: Vec<(u64, f64)> = (0..args.seeds)
+        .map(|index| seed_and_k(&args, index))
+        .collect();
+    if let Err(code) = check_mission_configs(&plans, &seeds, args.frames) {
+        return code;
     }
     let executable = match setup::own_executable(" to start children") {
         Ok(path) => path,
         Err(code) => return code,
     };
-    for plan in &plans {
-        if let Err(error) = std::fs::create_dir_all(&plan.out) {
-            eprintln!("error: cannot create {}: {error}", plan.out.display());
-            return ExitCode::FAILURE;
+    if let Err(code) = create_out_folders(&plans, overlay.as_ref()) {
+        return code;
+    }
+    let (sets, interrupted) = run_missions(&seeds, args.frames, &plans, &executable);
+    report(&plans, &sets, targets.as_ref(), interrupted, args.seeds)
+}
+
+/// The `--expect` targets file, read before anything launches.
+fn load_targets(path: Option<&Path>) -> Result<Option<Targets>, ExitCode> {
+    let Some(path) = path else {
+        return Ok(None);
+    };
+    match crate::compare_expect::load(path) {
+        Ok(expect) => Ok(Some((path.display().to_string(), expect))),
+        Err(error) => {
+            eprintln!("error: {error}");
+            Err(ExitCode::from(crate::EXIT_CONFIG))
         }
     }
-    if let (Some(overlay), Some(plan)) = (&overlay, plans.get(1)) {
+}
+
+/// The `--variant` overlay and the config it makes of `base`, with the modes it runs.
+fn variant_config(
+    args: &CompareArgs,
+    base: &HopnavConfig,
+) -> Result<(Option<Overlay>, Option<Variant>), ExitCode> {
+    let config_error = |error: VariantError| {
+        eprintln!("error: {error}");
+        ExitCode::from(crate::EXIT_CONFIG)
+    };
+    let Some(path) = args.variant.as_deref() else {
+        return Ok((None, None));
+    };
+    let overlay = crate::compare_variant::read_overlay(path).map_err(config_error)?;
+    let config = crate::compare_variant::apply(base, &overlay).map_err(config_error)?;
+    let mode = args.variant_mode.unwrap_or_default();
+    Ok((Some(overlay), Some((config, mode))))
+}
+
+/// Checks every run's config before the first launch.
+fn check_mission_configs(
+    plans: &[RunSetPlan],
+    seeds: &[(u64, f64)],
+    frames: u64,
+) -> Result<(), ExitCode> {
+    for plan in plans {
+        for &(seed, k) in seeds {
+            for mode in &plan.modes {
+                let config = mission_config(plan, frames, seed, k, *mode);
+                if let Err(error) = registry::check_sections(&config) {
+                    eprintln!("error: {} seed {seed}: {error}", plan.label);
+                    return Err(ExitCode::from(crate::EXIT_CONFIG));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Creates each set's output folder; the variant's also gets a copy of its overlay.
+fn create_out_folders(plans: &[RunSetPlan], overlay: Option<&Overlay>) -> Result<(), ExitCode> {
+    for plan in plans {
+        if let Err(error) = std::fs::create_dir_all(&plan.out) {
+            eprintln!("error: cannot create {}: {error}", plan.out.display());
+            return Err(ExitCode::FAILURE);
+        }
+    }
+    if let (Some(overlay), Some(plan)) = (overlay, plans.get(1)) {
         let copy = plan.out.join("overlay.toml");
         if let Err(error) = std::fs::write(&copy, &overlay.text) {
             eprintln!("error: cannot write {}: {error}", copy.display());
-            return ExitCode::FAILURE;
+            return Err(ExitCode::FAILURE);
         }
     }
-    let (sets, interrupted) = run_missions(&args, &plans, &executable);
+    Ok(())
+}
+
+/// Prints and writes each set's table, then the pairing; the exit code says whether every
+/// file was written and whether Ctrl-C cut the comparison short.
+fn report(
+    plans: &[RunSetPlan],
+    sets: &[RunSet],
+    targets: Option<&Targets>,
+    interrupted: bool,
+    seeds: u64,
+) -> ExitCode {
     let mut code = ExitCode::SUCCESS;
-    for (plan, set) in plans.iter().zip(&sets) {
+    for (plan, set) in plans.iter().zip(sets) {
         if plans.len() > 1 {
             println!("\n{} ({}):", set.label, plan.out.display());
         }
@@ -195,13 +238,13 @@ pub fn run(args: CompareArgs) -> ExitCode {
             code = ExitCode::FAILURE;
         }
     }
-    print_paired(&sets, targets.as_ref());
+    print_paired(sets, targets);
     if interrupted {
         let total: u64 = plans.iter().map(|plan| plan.modes.len() as u64).sum();
         let done: usize = sets.iter().map(|set| set.rows.len()).sum();
         eprintln!(
             "interrupted: stopped after {done} of {} launches",
-            total * args.seeds
+            total * seeds
         );
         return ExitCode::from(crate::EXIT_INTERRUPTED);
     }
@@ -279,132 +322,4 @@ fn print_paired(sets: &[RunSet], targets: Option<&Targets>) {
             }
         }
     }
-}
-
-/// Launches every mission, seed by seed (a seed's base runs, then its variant runs), and
-/// writes each set's map figure: its first seed with both modes, the cooperative mission with
-/// the world's rocks and the rover-only rover's track. Returns the sets and whether Ctrl-C
-/// (or SIGTERM) stopped the comparison.
-fn run_missions(
-    args: &CompareArgs,
-    plans: &[RunSetPlan],
-    executable: &Path,
-) -> (Vec<RunSet>, bool) {
-    let total: u64 = plans
-        .iter()
-        .map(|plan| plan.modes.len() as u64)
-        .sum::<u64>()
-        * args.seeds;
-    let mut sets: Vec<RunSet> = plans
-        .iter()
-        .map(|plan| RunSet {
-            label: plan.label.clone(),
-            rows: Vec::new(),
-        })
-        .collect();
-    let mut figure_written = vec![false; plans.len()];
-    let mut launched = 0;
-    for index in 0..args.seeds {
-        let (seed, k) = seed_and_k(args, index);
-        for (plan_index, plan) in plans.iter().enumerate() {
-            let mut figure = None;
-            let mut rover_only_track = None;
-            for &mode in &plan.modes {
-                launched += 1;
-                let set_name = if plan_index == 0 {
-                    String::new()
-                } else {
-                    format!("{} ", plan.label)
-                };
-                eprintln!(
-                    "[{launched}/{total}] {set_name}seed {seed}, k {k:.3}, {} ...",
-                    mode.name()
-                );
-                let options = LaunchOptions {
-                    config: mission_config(plan, args.frames, seed, k, mode),
-                    executable: executable.to_owned(),
-                    known_processes: registry::names(),
-                    run_id: None,
-                    show_status: false,
-                    evaluator: Some(std::sync::Arc::new(TruthEvaluator)),
-                };
-                let figure_config = (mode == MissionMode::Cooperative
-                    && !figure_written[plan_index])
-                    .then(|| options.config.clone());
-                let mut row = CompareRow {
-                    seed,
-                    golombek_k: k,
-                    mode: mode.name().to_owned(),
-                    run_dir: String::new(),
-                    runtime_ok: false,
-                    mission: None,
-                };
-                let interrupted = match launch(options) {
-                    Err(LaunchError::Interrupted) => return (sets, true),
-                    Err(error) => {
-                        eprintln!("  launch failed: {error}");
-                        false
-                    }
-                    Ok(outcome) => {
-                        if let Some(mission) = &outcome.report.mission {
-                            let _ = mission.print(&mut std::io::stderr());
-                        }
-                        for line in &outcome.report.evaluation_summary {
-                            eprintln!("{line}");
-                        }
-                        let record = outcome.mission_record.as_ref();
-                        match mode {
-                            MissionMode::Cooperative => {
-                                let truth =
-                                    figure_config.as_ref().and_then(MissionTruth::from_config);
-                                figure = record
-                                    .zip(truth.as_ref())
-                                    .and_then(|(record, truth)| mission_figure("", truth, record));
-                            }
-                            MissionMode::RoverOnly => {
-                                rover_only_track =
-                                    record.map(|record| record.rover_track_m.clone());
-                            }
-                        }
-                        row.run_dir = outcome.run_dir.display().to_string();
-                        row.runtime_ok = outcome.success;
-                        row.mission = outcome.report.mission.clone();
-                        outcome.interrupted
-                    }
-                };
-                sets[plan_index].rows.push(row);
-                if interrupted {
-                    // Ctrl-C stops the whole comparison, not just this launch: the tables
-                    // and files keep what finished.
-                    return (sets, true);
-                }
-            }
-            if !figure_written[plan_index]
-                && let (Some(mut figure), Some(track)) = (figure, rover_only_track)
-            {
-                figure.title = format!("cooperative vs rover-only, seed {seed}, k {k:.3}");
-                if plan_index > 0 {
-                    figure.title.push_str(&format!(" ({})", plan.label));
-                }
-                figure.tracks.insert(
-                    1,
-                    Track {
-                        label: "rover (rover-only)".into(),
-                        points_m: track,
-                        rgb: (120, 0, 160),
-                        markers_only: false,
-                    },
-                );
-                let path = plan.out.join("compare_map.png");
-                match write_map_png(&path, &figure) {
-                    Ok(()) => {
-                        figure_written[plan_index] = true;
-                        eprintln!("map figure: {}", path.display());
-                    }
-                    Err(error) => eprintln!("warning: {error}"),
-                }
-            }
-        }
-    }
-    (sets, false)
 }

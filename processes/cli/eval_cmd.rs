@@ -100,17 +100,44 @@ fn write_outputs(
     .map_err(|e| e.to_string())
 }
 
+/// The scale methods `eval vo` compares: the default, then the paper's eq. (4).
+const VO_METHODS: [ScaleMethod; 2] = [ScaleMethod::Ballistic, ScaleMethod::PaperEq4];
+
+/// One VO run's report: its scale method and seed.
+type SeedReport = (ScaleMethod, u64, VoReport);
+
 fn vo(args: &VoArgs) -> Result<(), String> {
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    let methods = [ScaleMethod::Ballistic, ScaleMethod::PaperEq4];
-    let mut reports: Vec<(ScaleMethod, u64, VoReport)> = Vec::new();
+    let reports = run_vo_seeds(args)?;
+    print_seed_table(&reports);
+    let mut summary = serde_json::Map::new();
+    for method in VO_METHODS {
+        summary.insert(format!("{method:?}"), method_summary(method, &reports));
+    }
+    let json_path = args.out.join("eval_vo.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&summary).unwrap_or_default(),
+    )
+    .map_err(|e| format!("{}: {e}", json_path.display()))?;
+    println!(
+        "wrote {}/{{ballistic,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Renders each seed's hop and runs the VO on it with every scale method; the first seed's
+/// runs also write their TUM files and figures.
+fn run_vo_seeds(args: &VoArgs) -> Result<Vec<SeedReport>, String> {
+    let mut reports = Vec::new();
     for seed in 1..=args.seeds {
         eprint!(
             "\rseed {seed}/{}: rendering the hop …            ",
             args.seeds
         );
         let hop = hop_for_seed(seed)?;
-        for method in methods {
+        for method in VO_METHODS {
             eprint!(
                 "\rseed {seed}/{}: VO with {method:?} scale …      ",
                 args.seeds
@@ -129,6 +156,11 @@ fn vo(args: &VoArgs) -> Result<(), String> {
         }
     }
     eprintln!();
+    Ok(reports)
+}
+
+/// One row per run.
+fn print_seed_table(reports: &[SeedReport]) {
     println!(
         "\n{:<10} {:>5} {:>12} {:>12} {:>12} {:>11} {:>10} {:>9}",
         "scale",
@@ -140,7 +172,7 @@ fn vo(args: &VoArgs) -> Result<(), String> {
         "final m",
         "max rot°"
     );
-    for (method, seed, report) in &reports {
+    for (method, seed, report) in reports {
         println!(
             "{:<10} {:>5} {:>12.3} {:>12.3} {:>12.3} {:>11.3} {:>10.3} {:>9.2}",
             format!("{method:?}"),
@@ -154,57 +186,45 @@ fn vo(args: &VoArgs) -> Result<(), String> {
         );
     }
     println!();
-    let mut summary = serde_json::Map::new();
-    for method in methods {
-        let of_method: Vec<&VoReport> = reports
-            .iter()
-            .filter(|(m, _, _)| *m == method)
-            .map(|(_, _, report)| report)
-            .collect();
-        let mean = |f: fn(&VoReport) -> f64| {
-            of_method.iter().map(|r| f(r)).sum::<f64>() / of_method.len() as f64
-        };
-        let worst = |f: fn(&VoReport) -> f64| of_method.iter().map(|r| f(r)).fold(0.0, f64::max);
-        println!(
-            "{method:?}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
-            mean(|r| r.ate_sim3_m),
-            worst(|r| r.ate_sim3_m),
-            mean(|r| r.ate_se3_m),
-            worst(|r| r.ate_se3_m),
-            if method == ScaleMethod::Ballistic {
-                if worst(|r| r.ate_sim3_m) <= 0.25 {
-                    "  (target <= 0.25 m: met)"
-                } else {
-                    "  (target <= 0.25 m: NOT met)"
-                }
-            } else {
-                "  (the paper's eq. 4 baseline)"
-            }
-        );
-        summary.insert(
-            format!("{method:?}"),
-            serde_json::json!({
-                "ate_sim3_mean_m": mean(|r| r.ate_sim3_m),
-                "ate_sim3_worst_m": worst(|r| r.ate_sim3_m),
-                "ate_se3_mean_m": mean(|r| r.ate_se3_m),
-                "ate_se3_worst_m": worst(|r| r.ate_se3_m),
-                "rpe_frame_mean_m": mean(|r| r.rpe_frame_m),
-                "final_error_mean_m": mean(|r| r.final_error_m),
-                "seeds": of_method.len(),
-            }),
-        );
-    }
-    let json_path = args.out.join("eval_vo.json");
-    std::fs::write(
-        &json_path,
-        serde_json::to_string_pretty(&summary).unwrap_or_default(),
-    )
-    .map_err(|e| format!("{}: {e}", json_path.display()))?;
+}
+
+/// Prints `method`'s mean and worst ATE over the seeds (against the target for the default
+/// method) and returns them for eval_vo.json.
+fn method_summary(method: ScaleMethod, reports: &[SeedReport]) -> serde_json::Value {
+    let of_method: Vec<&VoReport> = reports
+        .iter()
+        .filter(|(m, _, _)| *m == method)
+        .map(|(_, _, report)| report)
+        .collect();
+    let mean = |f: fn(&VoReport) -> f64| {
+        of_method.iter().map(|r| f(r)).sum::<f64>() / of_method.len() as f64
+    };
+    let worst = |f: fn(&VoReport) -> f64| of_method.iter().map(|r| f(r)).fold(0.0, f64::max);
     println!(
-        "wrote {}/{{ballistic,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
-        args.out.display()
+        "{method:?}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
+        mean(|r| r.ate_sim3_m),
+        worst(|r| r.ate_sim3_m),
+        mean(|r| r.ate_se3_m),
+        worst(|r| r.ate_se3_m),
+        if method == ScaleMethod::Ballistic {
+            if worst(|r| r.ate_sim3_m) <= 0.25 {
+                "  (target <= 0.25 m: met)"
+            } else {
+                "  (target <= 0.25 m: NOT met)"
+            }
+        } else {
+            "  (the paper's eq. 4 baseline)"
+        }
     );
-    Ok(())
+    serde_json::json!({
+        "ate_sim3_mean_m": mean(|r| r.ate_sim3_m),
+        "ate_sim3_worst_m": worst(|r| r.ate_sim3_m),
+        "ate_se3_mean_m": mean(|r| r.ate_se3_m),
+        "ate_se3_worst_m": worst(|r| r.ate_se3_m),
+        "rpe_frame_mean_m": mean(|r| r.rpe_frame_m),
+        "final_error_mean_m": mean(|r| r.final_error_m),
+        "seeds": of_method.len(),
+    })
 }
 
 /// Evaluates the live `jumper_vo` estimate of a recorded launch against its ground truth.

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
+use hopnav_config::HopnavConfig;
+use hopnav_supervisor::{LaunchError, LaunchOptions, LaunchOutcome, launch};
 
 use crate::registry;
 use crate::setup;
@@ -52,43 +53,8 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         Ok(config) => config,
         Err(code) => return code,
     };
-    config.run.lockstep |= args.lockstep;
-    if let Some(frames) = args.frames {
-        config.run.frames = frames;
-    }
-    if let Some(duration_s) = args.duration {
-        if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= 1e6) {
-            eprintln!("error: --duration must be in (0, 1e6] seconds, got {duration_s}");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        }
-        config.run.frames = (duration_s * config.run.frame_rate_hz).ceil().max(1.0) as u64;
-    }
-    if let Some(dir) = &args.export_dataset {
-        let Some(recorder) = config.processes.get_mut("recorder") else {
-            eprintln!("error: --export-dataset needs a [processes.recorder] entry in the config");
-            return ExitCode::from(crate::EXIT_CONFIG);
-        };
-        recorder.enabled = true;
-        config.recorder.dir = std::path::absolute(dir)
-            .unwrap_or_else(|_| dir.clone())
-            .display()
-            .to_string();
-    }
-    config.faults.inject.extend(args.fault.iter().cloned());
-    if let Err(error) = config.faults.specs() {
-        eprintln!("error: --fault: {error}");
-        return ExitCode::from(crate::EXIT_CONFIG);
-    }
-    if let Some(out) = &args.out {
-        config.run.out_dir = out.display().to_string();
-    }
-    if let Some(run_id) = &args.run_id
-        && (run_id.is_empty()
-            || run_id.contains('_')
-            || hopnav_ipc::namespace::Namespace::new(run_id).is_err())
-    {
-        eprintln!("error: --run-id {run_id:?} must be 1..=48 characters of [A-Za-z0-9-]");
-        return ExitCode::from(crate::EXIT_CONFIG);
+    if let Err(code) = apply_options(&args, &mut config) {
+        return code;
     }
     let executable = match setup::own_executable(" to start children") {
         Ok(path) => path,
@@ -102,7 +68,56 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         show_status: !args.quiet,
         evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
     };
-    match launch(options) {
+    report(launch(options))
+}
+
+/// Sets what the command-line options override in `config`; a bad option exits with the
+/// config error code before anything starts.
+fn apply_options(args: &LaunchArgs, config: &mut HopnavConfig) -> Result<(), ExitCode> {
+    config.run.lockstep |= args.lockstep;
+    if let Some(frames) = args.frames {
+        config.run.frames = frames;
+    }
+    if let Some(duration_s) = args.duration {
+        if !(duration_s.is_finite() && duration_s > 0.0 && duration_s <= 1e6) {
+            eprintln!("error: --duration must be in (0, 1e6] seconds, got {duration_s}");
+            return Err(ExitCode::from(crate::EXIT_CONFIG));
+        }
+        config.run.frames = (duration_s * config.run.frame_rate_hz).ceil().max(1.0) as u64;
+    }
+    if let Some(dir) = &args.export_dataset {
+        let Some(recorder) = config.processes.get_mut("recorder") else {
+            eprintln!("error: --export-dataset needs a [processes.recorder] entry in the config");
+            return Err(ExitCode::from(crate::EXIT_CONFIG));
+        };
+        recorder.enabled = true;
+        config.recorder.dir = std::path::absolute(dir)
+            .unwrap_or_else(|_| dir.clone())
+            .display()
+            .to_string();
+    }
+    config.faults.inject.extend(args.fault.iter().cloned());
+    if let Err(error) = config.faults.specs() {
+        eprintln!("error: --fault: {error}");
+        return Err(ExitCode::from(crate::EXIT_CONFIG));
+    }
+    if let Some(out) = &args.out {
+        config.run.out_dir = out.display().to_string();
+    }
+    if let Some(run_id) = &args.run_id
+        && (run_id.is_empty()
+            || run_id.contains('_')
+            || hopnav_ipc::namespace::Namespace::new(run_id).is_err())
+    {
+        eprintln!("error: --run-id {run_id:?} must be 1..=48 characters of [A-Za-z0-9-]");
+        return Err(ExitCode::from(crate::EXIT_CONFIG));
+    }
+    Ok(())
+}
+
+/// Prints the launch's summary and turns its outcome into the exit code.
+fn report(result: Result<LaunchOutcome, LaunchError>) -> ExitCode {
+    match result {
         Ok(outcome) => {
             let mut stdout = std::io::stdout().lock();
             let _ = outcome.report.print_summary(&mut stdout);

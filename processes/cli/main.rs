@@ -5,6 +5,7 @@ mod bench_cmd;
 mod chaos_cmd;
 mod compare_cmd;
 mod compare_expect;
+mod compare_launch;
 mod compare_pair;
 mod compare_quality;
 mod compare_rows;

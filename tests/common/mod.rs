@@ -12,8 +12,13 @@ pub fn hopnav() -> Command {
 
 /// The probe-graph config (no world): what runtime tests launch unless they bring their own.
 pub fn probe_config() -> String {
+    fixture_config("probe.toml")
+}
+
+/// A config file under tests/fixtures/config, e.g. `valid/strict_supervision.toml`.
+pub fn fixture_config(relative: &str) -> String {
     format!(
-        "{}/tests/fixtures/config/probe.toml",
+        "{}/tests/fixtures/config/{relative}",
         env!("CARGO_MANIFEST_DIR")
     )
 }
@@ -49,11 +54,28 @@ pub fn launch_command(out: &Path, run_id: &str, args: &[&str]) -> Command {
     command
 }
 
+/// `hopnav launch` with the given arguments, started in the background.
+pub fn spawn_launch(out: &Path, run_id: &str, args: &[&str]) -> Child {
+    launch_command(out, run_id, args)
+        .spawn()
+        .expect("spawn launch")
+}
+
 /// Runs a launch to completion.
 pub fn launch(out: &Path, run_id: &str, args: &[&str]) -> Output {
     launch_command(out, run_id, args)
         .output()
         .expect("run hopnav launch")
+}
+
+/// The run left no shared-memory files and no process behind.
+pub fn assert_nothing_left(report: &serde_json::Value, run_id: &str) {
+    assert_eq!(report["leftover_files"], 0, "leftover files: {report:#}");
+    let survivors = pids_with_args(&[run_id]);
+    assert!(
+        survivors.is_empty(),
+        "no process of the run survives: {survivors:?}"
+    );
 }
 
 /// The parsed report of a run.

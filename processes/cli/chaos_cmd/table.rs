@@ -1,7 +1,7 @@
 //! The chaos run's tables: per run (faults, detection, recovery, files, panics, mission) and
 //! the missions against the unfaulted one.
 
-use std::io::Write as _;
+use std::io::Write;
 
 use hopnav_eval::faulted_mission::{FaultedMission, MissionOutcome, Verdict};
 use hopnav_supervisor::fault_injector::FaultRecord;
@@ -126,6 +126,16 @@ impl FastResponses {
     }
 }
 
+/// What the table's closing lines sum over all runs.
+#[derive(Default)]
+struct Totals {
+    recoveries: Vec<f64>,
+    detections: Vec<f64>,
+    injected: usize,
+    recovered: usize,
+    fast: FastResponses,
+}
+
 pub(super) fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(
@@ -141,71 +151,80 @@ pub(super) fn print_table(runs: &[ChaosRun], frame_period_s: f64) {
         "panics",
         "mission"
     );
-    let mut all_recoveries = Vec::new();
-    let mut all_detections = Vec::new();
-    let (mut injected_total, mut recovered_total) = (0, 0);
-    let mut fast = FastResponses::default();
+    let mut totals = Totals::default();
     for run in runs {
-        let fired: Vec<&FaultRecord> = run
-            .faults
-            .iter()
-            .filter(|fault| fault.injected_frame.is_some())
-            .collect();
-        let detected = fired
-            .iter()
-            .filter(|fault| fault.detected_after_s.is_some())
-            .count();
-        let mut recoveries: Vec<f64> = fired
-            .iter()
-            .filter_map(|fault| fault.recovered_after_s)
-            .collect();
-        recoveries.sort_by(f64::total_cmp);
-        all_detections.extend(fired.iter().filter_map(|fault| fault.detected_after_s));
-        for fault in &fired {
-            fast.count(fault, frame_period_s);
-        }
-        injected_total += run.faults.len();
-        recovered_total += recoveries.len();
-        all_recoveries.extend(recoveries.iter().copied());
-        let _ = writeln!(
-            out,
-            "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} {}",
-            run.run,
-            run.faults.len(),
-            detected,
-            format!("{}/{}", recoveries.len(), fired.len()),
-            ms_cell(recoveries.get(recoveries.len() / 2)),
-            ms_cell(recoveries.last()),
-            format!("{}/{}", run.hopnav_files_before, run.hopnav_files_after),
-            run.panics,
-            mission_cell(run),
-            run.outcome
-        );
+        print_run_row(&mut out, run, frame_period_s, &mut totals);
     }
-    all_recoveries.sort_by(f64::total_cmp);
+    print_totals(&mut out, runs, totals);
+}
+
+/// One run's row; adds its faults to `totals`.
+fn print_run_row(out: &mut impl Write, run: &ChaosRun, frame_period_s: f64, totals: &mut Totals) {
+    let fired: Vec<&FaultRecord> = run
+        .faults
+        .iter()
+        .filter(|fault| fault.injected_frame.is_some())
+        .collect();
+    let detected = fired
+        .iter()
+        .filter(|fault| fault.detected_after_s.is_some())
+        .count();
+    let mut recoveries: Vec<f64> = fired
+        .iter()
+        .filter_map(|fault| fault.recovered_after_s)
+        .collect();
+    recoveries.sort_by(f64::total_cmp);
+    totals
+        .detections
+        .extend(fired.iter().filter_map(|fault| fault.detected_after_s));
+    for fault in &fired {
+        totals.fast.count(fault, frame_period_s);
+    }
+    totals.injected += run.faults.len();
+    totals.recovered += recoveries.len();
+    totals.recoveries.extend(recoveries.iter().copied());
+    let _ = writeln!(
+        out,
+        "{:>4} {:>8} {:>8} {:>9} {:>13} {:>13} {:>12} {:>7} {:<36} {}",
+        run.run,
+        run.faults.len(),
+        detected,
+        format!("{}/{}", recoveries.len(), fired.len()),
+        ms_cell(recoveries.get(recoveries.len() / 2)),
+        ms_cell(recoveries.last()),
+        format!("{}/{}", run.hopnav_files_before, run.hopnav_files_after),
+        run.panics,
+        mission_cell(run),
+        run.outcome
+    );
+}
+
+/// The closing lines: faults, recoveries and detections over all runs.
+fn print_totals(out: &mut impl Write, runs: &[ChaosRun], mut totals: Totals) {
+    totals.recoveries.sort_by(f64::total_cmp);
     let leaked: usize = runs.iter().map(|run| run.leftover_files).sum();
     let _ = writeln!(
         out,
         "\n{} faults injected ({} fired with a time), {} recovered; recovery p50 {}, max {}; kills recovered within 2 frame periods: {}/{}; leaked files {leaked}; panics {}",
-        injected_total,
+        totals.injected,
         runs.iter()
             .flat_map(|run| &run.faults)
             .filter(|fault| fault.injected_frame.is_some())
             .count(),
-        recovered_total,
-        ms_cell(all_recoveries.get(all_recoveries.len() / 2)),
-        ms_cell(all_recoveries.last()),
-        fast.kills_fast,
-        fast.kills,
+        totals.recovered,
+        ms_cell(totals.recoveries.get(totals.recoveries.len() / 2)),
+        ms_cell(totals.recoveries.last()),
+        totals.fast.kills_fast,
+        totals.fast.kills,
         runs.iter().map(|run| run.panics).sum::<usize>()
     );
-    all_detections.sort_by(f64::total_cmp);
+    totals.detections.sort_by(f64::total_cmp);
     let _ = writeln!(
         out,
         "detection p50 {}, max {}; hangs detected within 2 frame periods: {}/{}",
-        ms_cell(all_detections.get(all_detections.len() / 2)),
-        ms_cell(all_detections.last()),
-        fast.hangs_fast,
-        fast.hangs,
+        ms_cell(totals.detections.get(totals.detections.len() / 2)),
+        ms_cell(totals.detections.last()),
+        totals.fast.hangs_fast,
+        totals.fast.hangs,
     );
 }

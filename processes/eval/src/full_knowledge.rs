@@ -227,14 +227,6 @@ mod tests {
         MapGeometry::new(-10.0, -10.0, 0.5, 40, 40).unwrap()
     }
 
-    fn rock(x_m: f64, y_m: f64, radius_m: f64, height_m: f64) -> RockFootprint {
-        RockFootprint {
-            center_m: [x_m, y_m],
-            radius_m,
-            height_m,
-        }
-    }
-
     #[test]
     fn an_empty_field_is_crossed_in_a_straight_line() {
         let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
@@ -302,7 +294,7 @@ mod tests {
         let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
         // A wall across y from -6 to 6 at x = 0; the way round is past y = ±6.
         let wall: Vec<RockFootprint> = (0..=24)
-            .map(|i| rock(0.0, -6.0 + 0.5 * f64::from(i), 0.3, 0.4))
+            .map(|i| RockFootprint::at(0.0, -6.0 + 0.5 * f64::from(i), 0.3, 0.4))
             .collect();
         let path = full_knowledge_path(
             &wall,
@@ -318,7 +310,7 @@ mod tests {
         assert!(path.obstacle_cells > 25);
         let low: Vec<RockFootprint> = wall
             .iter()
-            .map(|r| rock(r.center_m[0], r.center_m[1], 0.3, 0.1))
+            .map(|r| RockFootprint::at(r.center_m[0], r.center_m[1], 0.3, 0.1))
             .collect();
         let flat = full_knowledge_path(
             &low,
@@ -341,7 +333,7 @@ mod tests {
         let wall: Vec<RockFootprint> = (0..=40)
             .map(|i| -10.0 + 0.5 * f64::from(i))
             .filter(|y_m: &f64| y_m.abs() > 0.9)
-            .map(|y_m| rock(0.25, y_m, 0.2, 0.4))
+            .map(|y_m| RockFootprint::at(0.25, y_m, 0.2, 0.4))
             .collect();
         let path = full_knowledge_path(
             &wall,
@@ -362,7 +354,7 @@ mod tests {
         let ring: Vec<RockFootprint> = (0..64)
             .map(|i| {
                 let angle = f64::from(i) * std::f64::consts::TAU / 64.0;
-                rock(5.0 + 3.0 * angle.cos(), 3.0 * angle.sin(), 0.3, 0.5)
+                RockFootprint::at(5.0 + 3.0 * angle.cos(), 3.0 * angle.sin(), 0.3, 0.5)
             })
             .collect();
         assert_eq!(

@@ -42,6 +42,18 @@ pub struct RockFootprint {
     pub height_m: f64,
 }
 
+#[cfg(test)]
+impl RockFootprint {
+    /// A rock centred on (`x_m`, `y_m`), for tests.
+    pub(crate) fn at(x_m: f64, y_m: f64, radius_m: f64, height_m: f64) -> Self {
+        Self {
+            center_m: [x_m, y_m],
+            radius_m,
+            height_m,
+        }
+    }
+}
+
 /// An obstacle cell of the final map.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ObstacleCell {
@@ -163,17 +175,9 @@ mod tests {
     #[test]
     fn cells_over_rocks_are_true_and_others_false_by_observer() {
         let rocks = [
-            RockFootprint {
-                center_m: [2.0, 2.0],
-                radius_m: 0.4,
-                height_m: 0.3,
-            },
+            RockFootprint::at(2.0, 2.0, 0.4, 0.3),
             // Too low to make a cell true.
-            RockFootprint {
-                center_m: [6.0, 6.0],
-                radius_m: 0.2,
-                height_m: 0.05,
-            },
+            RockFootprint::at(6.0, 6.0, 0.2, 0.05),
         ];
         let cells = [
             cell(2.25, 2.25, true, false),
@@ -200,17 +204,9 @@ mod tests {
     #[test]
     fn a_false_jumper_cell_beside_an_unclimbable_rock_counts_as_misplaced() {
         let rocks = [
-            RockFootprint {
-                center_m: [2.0, 2.0],
-                radius_m: 0.5,
-                height_m: 0.8,
-            },
+            RockFootprint::at(2.0, 2.0, 0.5, 0.8),
             // Climbable: a false cell beside it is not a shifted obstacle.
-            RockFootprint {
-                center_m: [20.0, 2.0],
-                radius_m: 0.3,
-                height_m: 0.15,
-            },
+            RockFootprint::at(20.0, 2.0, 0.3, 0.15),
         ];
         let cells = [
             // 2 m beyond the rock's edge: shifted.
@@ -230,16 +226,8 @@ mod tests {
     #[test]
     fn a_blocking_rock_far_from_the_track_does_not_count_and_a_missed_one_does() {
         let rocks = [
-            RockFootprint {
-                center_m: [2.0, 2.0],
-                radius_m: 0.3,
-                height_m: 0.3,
-            },
-            RockFootprint {
-                center_m: [20.0, 20.0],
-                radius_m: 0.3,
-                height_m: 0.3,
-            },
+            RockFootprint::at(2.0, 2.0, 0.3, 0.3),
+            RockFootprint::at(20.0, 20.0, 0.3, 0.3),
         ];
         let accuracy = evaluate(&rocks, &[], &[[2.0, 1.0]], 0.5, 0.1, 0.2);
         assert_eq!(accuracy.blocking_rocks_near_track, 1);

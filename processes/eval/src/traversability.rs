@@ -267,19 +267,25 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn a_map_that_blocks_twice_the_ground_has_a_ratio_near_two_and_no_misses() {
-        let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
-        let cells = grid(|c| c[0].hypot(c[1]) < 0.7 * std::f64::consts::SQRT_2);
-        let result = blocked_area(
-            &cells,
-            &rocks,
-            &Reach::NearTrack(&[[0.0, 0.0]]),
+    /// `blocked_area` over a 0.25 m grid near a one-point track, for a rover that climbs
+    /// 0.2 m with a 0.4 m inscribed radius.
+    fn judged_near_track(cells: &[MapCell], rocks: &[RockEllipse], track: [f64; 2]) -> BlockedArea {
+        blocked_area(
+            cells,
+            rocks,
+            &Reach::NearTrack(&[track]),
             0.25,
             0.2,
             0.4,
             |_| false,
-        );
+        )
+    }
+
+    #[test]
+    fn a_map_that_blocks_twice_the_ground_has_a_ratio_near_two_and_no_misses() {
+        let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
+        let cells = grid(|c| c[0].hypot(c[1]) < 0.7 * std::f64::consts::SQRT_2);
+        let result = judged_near_track(&cells, &rocks, [0.0, 0.0]);
         let ratio = result.blocked_area_ratio.unwrap();
         assert!((1.7..2.3).contains(&ratio), "{ratio}");
         assert_eq!(result.missed_lethal_cells, 0);
@@ -289,15 +295,7 @@ mod tests {
     #[test]
     fn a_climbable_rock_is_not_lethal_and_a_missed_rock_is_counted() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.15), rock(2.0, 0.0, 0.3, 0.5)];
-        let result = blocked_area(
-            &grid(|_| false),
-            &rocks,
-            &Reach::NearTrack(&[[0.0, 0.0]]),
-            0.25,
-            0.2,
-            0.4,
-            |_| false,
-        );
+        let result = judged_near_track(&grid(|_| false), &rocks, [0.0, 0.0]);
         assert!(result.true_lethal_cells > 0, "the tall rock only");
         assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
         assert_eq!(result.missed_lethal_percent(), Some(100.0));
@@ -309,41 +307,28 @@ mod tests {
         // A crater's wall along x > 1: a map that shuts it is right, one that leaves it open
         // misses it.
         let steep = |centre_m: [f64; 2]| centre_m[0] > 1.0;
-        let shut = blocked_area(
-            &grid(|c| c[0] > 1.0),
-            &[],
-            &Reach::NearTrack(&[[0.0, 0.0]]),
-            0.25,
-            0.2,
-            0.4,
-            steep,
-        );
+        let judged = |cells: &[MapCell]| {
+            blocked_area(
+                cells,
+                &[],
+                &Reach::NearTrack(&[[0.0, 0.0]]),
+                0.25,
+                0.2,
+                0.4,
+                steep,
+            )
+        };
+        let shut = judged(&grid(|c| c[0] > 1.0));
         assert!(shut.true_lethal_cells > 0);
         assert_eq!((shut.missed_lethal_cells, shut.false_lethal_cells), (0, 0));
-        let open = blocked_area(
-            &grid(|_| false),
-            &[],
-            &Reach::NearTrack(&[[0.0, 0.0]]),
-            0.25,
-            0.2,
-            0.4,
-            steep,
-        );
+        let open = judged(&grid(|_| false));
         assert_eq!(open.missed_lethal_cells, open.true_lethal_cells);
     }
 
     #[test]
     fn cells_far_from_the_track_are_not_judged() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
-        let result = blocked_area(
-            &grid(|_| true),
-            &rocks,
-            &Reach::NearTrack(&[[100.0, 100.0]]),
-            0.25,
-            0.2,
-            0.4,
-            |_| false,
-        );
+        let result = judged_near_track(&grid(|_| true), &rocks, [100.0, 100.0]);
         assert_eq!(result.judged_cells, 0);
         assert_eq!(result.blocked_area_ratio, None);
     }
@@ -362,15 +347,7 @@ mod tests {
         }
         cells.retain(|cell| cell.centre_m[0] < 3.0 || cell.centre_m[1].abs() > 1.0);
         cells.retain(|cell| (cell.centre_m[0] + 2.0).hypot(cell.centre_m[1]) > 0.6);
-        let result = blocked_area(
-            &cells,
-            &rocks,
-            &Reach::NearTrack(&[[0.0, 0.0]]),
-            0.25,
-            0.2,
-            0.4,
-            |_| false,
-        );
+        let result = judged_near_track(&cells, &rocks, [0.0, 0.0]);
         // Lethal, only costly, not seen; the fourth is beyond 5 m of the track.
         assert_eq!(result.rocks_by_outcome, [1, 1, 0, 1]);
     }

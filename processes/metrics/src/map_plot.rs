@@ -118,10 +118,7 @@ const LEGEND: [(&str, MappedClass, Observer); 7] = [
 
 /// Draws `figure` into a PNG at `path`.
 pub fn write_map_png(path: &Path, figure: &MapFigure) -> Result<(), PlotError> {
-    let error = |message: String| PlotError {
-        path: path.display().to_string(),
-        message,
-    };
+    let error = PlotError::writing(path);
     register_font().map_err(error)?;
     let (x0, x1, y0, y1) = figure.view_m;
     if !(x1 > x0 && y1 > y0 && figure.cell_size_m > 0.0) {
@@ -155,48 +152,9 @@ fn draw_map<DB: DrawingBackend>(
         .y_desc("y [m]")
         .draw()
         .map_err(|e| e.to_string())?;
-    let size_m = figure.cell_size_m;
-    let (ox, oy) = figure.origin_m;
-    chart
-        .draw_series(figure.cells.iter().map(|cell| {
-            let left = ox + f64::from(cell.x) * size_m;
-            let bottom = oy + f64::from(cell.y) * size_m;
-            Rectangle::new(
-                [(left, bottom), (left + size_m, bottom + size_m)],
-                cell_colour(cell.class, cell.observer).filled(),
-            )
-        }))
-        .map_err(|e| e.to_string())?;
-    for (label, class, observer) in LEGEND {
-        let colour = cell_colour(class, observer);
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(|e| e.to_string())?
-            .label(label)
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], colour.filled()));
-    }
+    draw_cells(&mut chart, figure)?;
     draw_rock_outlines(&mut chart, &figure.rocks)?;
-    for track in &figure.tracks {
-        let colour = RGBColor(track.rgb.0, track.rgb.1, track.rgb.2);
-        let points: Vec<(f64, f64)> = track
-            .points_m
-            .iter()
-            .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .collect();
-        let series = if track.markers_only {
-            chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))
-                .map_err(|e| e.to_string())?
-        } else {
-            chart
-                .draw_series(LineSeries::new(points, colour.stroke_width(3)))
-                .map_err(|e| e.to_string())?
-        };
-        series.label(track.label.clone()).legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
-        });
-    }
+    draw_tracks(&mut chart, &figure.tracks)?;
     for (label, point, colour) in [
         ("start A", figure.start_m, RGBColor(20, 140, 20)),
         ("goal B", figure.goal_m, RGBColor(0, 0, 0)),
@@ -218,6 +176,63 @@ fn draw_map<DB: DrawingBackend>(
         .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The mapped cells, coloured by class and observer, with the legend of the colours.
+fn draw_cells<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    figure: &MapFigure,
+) -> Result<(), String> {
+    let size_m = figure.cell_size_m;
+    let (ox, oy) = figure.origin_m;
+    chart
+        .draw_series(figure.cells.iter().map(|cell| {
+            let left = ox + f64::from(cell.x) * size_m;
+            let bottom = oy + f64::from(cell.y) * size_m;
+            Rectangle::new(
+                [(left, bottom), (left + size_m, bottom + size_m)],
+                cell_colour(cell.class, cell.observer).filled(),
+            )
+        }))
+        .map_err(|e| e.to_string())?;
+    for (label, class, observer) in LEGEND {
+        let colour = cell_colour(class, observer);
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+            .map_err(|e| e.to_string())?
+            .label(label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], colour.filled()));
+    }
+    Ok(())
+}
+
+/// Each track as a line (or as dots), skipping points that are not finite.
+fn draw_tracks<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    tracks: &[Track],
+) -> Result<(), String> {
+    for track in tracks {
+        let colour = RGBColor(track.rgb.0, track.rgb.1, track.rgb.2);
+        let points: Vec<(f64, f64)> = track
+            .points_m
+            .iter()
+            .copied()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .collect();
+        let series = if track.markers_only {
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))
+                .map_err(|e| e.to_string())?
+        } else {
+            chart
+                .draw_series(LineSeries::new(points, colour.stroke_width(3)))
+                .map_err(|e| e.to_string())?
+        };
+        series.label(track.label.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+        });
+    }
     Ok(())
 }
 

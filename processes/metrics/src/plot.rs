@@ -50,6 +50,16 @@ pub struct PlotError {
     pub message: String,
 }
 
+impl PlotError {
+    /// The error of drawing into `path`, for `map_err`.
+    pub fn writing(path: &Path) -> impl Fn(String) -> PlotError + Copy + '_ {
+        move |message| PlotError {
+            path: path.display().to_string(),
+            message,
+        }
+    }
+}
+
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -93,25 +103,24 @@ pub fn register_font() -> Result<(), String> {
 
 /// Draws `plot` into an SVG file at `path`.
 pub fn write_svg(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
-    let error = |message: String| PlotError {
-        path: path.display().to_string(),
-        message,
-    };
     // Text is laid out with the embedded font's metrics even in SVG.
-    register_font().map_err(error)?;
-    let root = SVGBackend::new(path, (960, 600)).into_drawing_area();
-    draw(root, plot).map_err(error)
+    draw_into(path, plot, || SVGBackend::new(path, (960, 600)))
 }
 
 /// Draws `plot` into a PNG file at `path`.
 pub fn write_png(path: &Path, plot: &LinePlot<'_>) -> Result<(), PlotError> {
-    let error = |message: String| PlotError {
-        path: path.display().to_string(),
-        message,
-    };
+    draw_into(path, plot, || BitMapBackend::new(path, (1200, 750)))
+}
+
+/// Registers the font, then draws `plot` on the backend `open` makes for `path`.
+fn draw_into<DB: DrawingBackend>(
+    path: &Path,
+    plot: &LinePlot<'_>,
+    open: impl FnOnce() -> DB,
+) -> Result<(), PlotError> {
+    let error = PlotError::writing(path);
     register_font().map_err(error)?;
-    let root = BitMapBackend::new(path, (1200, 750)).into_drawing_area();
-    draw(root, plot).map_err(error)
+    draw(open().into_drawing_area(), plot).map_err(error)
 }
 
 /// Draws `plot` on any plotters drawing area (SVG, PNG, or a panel of a larger figure).
@@ -204,33 +213,19 @@ mod tests {
             label: "transport".into(),
             points: vec![(64.0, 0.01), (4096.0, 0.011), (4.0e6, 0.012)],
         }];
-        write_svg(
-            &path,
-            &LinePlot {
-                title: "latency",
-                x_label: "payload bytes",
-                y_label: "p50 ms",
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
-                series: &series,
-            },
-        )
-        .expect("plot");
+        let plot = LinePlot {
+            title: "latency",
+            x_label: "payload bytes",
+            y_label: "p50 ms",
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            series: &series,
+        };
+        write_svg(&path, &plot).expect("plot");
         let svg = std::fs::read_to_string(&path).expect("read");
         assert!(svg.contains("<svg") && svg.contains("latency") && svg.contains("transport"));
         let png_path = dir.join("plot.png");
-        write_png(
-            &png_path,
-            &LinePlot {
-                title: "latency",
-                x_label: "payload bytes",
-                y_label: "p50 ms",
-                x_scale: Scale::Log,
-                y_scale: Scale::Log,
-                series: &series,
-            },
-        )
-        .expect("png");
+        write_png(&png_path, &plot).expect("png");
         let png = std::fs::read(&png_path).expect("read png");
         assert_eq!(&png[1..4], b"PNG");
         std::fs::remove_dir_all(&dir).ok();

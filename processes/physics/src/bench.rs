@@ -20,7 +20,7 @@ use hopnav_world::{World, WorldConfig};
 
 use crate::config::PhysicsConfig;
 use crate::error::BenchError;
-use crate::frame::{DriveCommand, FrameInputs, HopRequest, HopState};
+use crate::frame::{DriveCommand, FrameInputs, FrameOutputs, HopRequest, HopState};
 use crate::sim::PhysicsSim;
 
 /// What to benchmark.
@@ -148,6 +148,67 @@ impl fmt::Display for PhysicsBenchReport {
     }
 }
 
+/// What the benchmark asks of the robots: the jumper hops between two points 20 m apart
+/// whenever settled; the rover drives a 6 m square around its start, skipping a corner after
+/// 50 frames blocked.
+struct BenchDriver {
+    hop_targets: [[f64; 2]; 2],
+    next_hop: usize,
+    corners: [[f64; 2]; 4],
+    corner: usize,
+    blocked_frames: u32,
+}
+
+impl BenchDriver {
+    fn new(physics: &PhysicsConfig) -> Self {
+        let [jx, jy] = physics.jumper.start_xy_m;
+        let [rx, ry] = physics.rover.start_xy_m;
+        Self {
+            hop_targets: [[jx + 20.0, jy], [jx, jy]],
+            next_hop: 0,
+            corners: [
+                [rx + 6.0, ry],
+                [rx + 6.0, ry - 6.0],
+                [rx, ry - 6.0],
+                [rx, ry],
+            ],
+            corner: 0,
+            blocked_frames: 0,
+        }
+    }
+
+    /// The next frame's inputs, after the frame that produced `last`.
+    fn inputs(&mut self, last: &FrameOutputs) -> FrameInputs {
+        let st = last.rover_status;
+        if st.mode == crate::frame::RoverMode::Arrived || self.blocked_frames >= 50 {
+            self.corner = (self.corner + 1) % self.corners.len();
+            self.blocked_frames = 0;
+        }
+        self.blocked_frames = if st.blocked.is_some() {
+            self.blocked_frames + 1
+        } else {
+            0
+        };
+        let hop_request = (last.jumper_status.state == HopState::Settled
+            && last.jumper_status.pending_target_xy_m.is_none())
+        .then(|| {
+            self.next_hop = (self.next_hop + 1) % self.hop_targets.len();
+            HopRequest {
+                target_xy_m: self.hop_targets[self.next_hop],
+            }
+        });
+        FrameInputs {
+            drive: Some(DriveCommand {
+                waypoint_xy_m: self.corners[self.corner],
+                speed_mps: 0.5,
+                hold: false,
+                reverse: false,
+            }),
+            hop_request,
+        }
+    }
+}
+
 /// Runs the benchmark: the jumper hops between two points 20 m apart whenever settled; the rover
 /// drives a 6 m square around its start, skipping a corner after 5 s blocked.
 pub fn run_physics_bench(cfg: &PhysicsBenchConfig) -> Result<PhysicsBenchReport, BenchError> {
@@ -158,51 +219,14 @@ pub fn run_physics_bench(cfg: &PhysicsBenchConfig) -> Result<PhysicsBenchReport,
     let mut sim = PhysicsSim::new(&world, &cfg.physics, cfg.seed)?;
     let setup_ms = t1.elapsed().as_secs_f64() * 1e3;
 
-    let [jx, jy] = cfg.physics.jumper.start_xy_m;
-    let hop_targets = [[jx + 20.0, jy], [jx, jy]];
+    let mut driver = BenchDriver::new(&cfg.physics);
     let [rx, ry] = cfg.physics.rover.start_xy_m;
-    let corners = [
-        [rx + 6.0, ry],
-        [rx + 6.0, ry - 6.0],
-        [rx, ry - 6.0],
-        [rx, ry],
-    ];
-    let mut corner = 0usize;
-    let mut blocked_frames = 0u32;
-    let mut next_hop = 0usize;
     let mut samples_us = Vec::with_capacity(cfg.frames as usize);
     let mut path_m = 0.0;
     let mut last_xy = [rx, ry];
     let total = cfg.warmup_frames + cfg.frames;
     for k in 0..total {
-        let last = *sim.last_outputs();
-        let st = last.rover_status;
-        if st.mode == crate::frame::RoverMode::Arrived || blocked_frames >= 50 {
-            corner = (corner + 1) % corners.len();
-            blocked_frames = 0;
-        }
-        blocked_frames = if st.blocked.is_some() {
-            blocked_frames + 1
-        } else {
-            0
-        };
-        let hop_request = (last.jumper_status.state == HopState::Settled
-            && last.jumper_status.pending_target_xy_m.is_none())
-        .then(|| {
-            next_hop = (next_hop + 1) % hop_targets.len();
-            HopRequest {
-                target_xy_m: hop_targets[next_hop],
-            }
-        });
-        let inputs = FrameInputs {
-            drive: Some(DriveCommand {
-                waypoint_xy_m: corners[corner],
-                speed_mps: 0.5,
-                hold: false,
-                reverse: false,
-            }),
-            hop_request,
-        };
+        let inputs = driver.inputs(sim.last_outputs());
         let t = Instant::now();
         let out = sim.step_frame(&inputs);
         let us = t.elapsed().as_secs_f64() * 1e6;

@@ -284,17 +284,27 @@ fn a_settled_jumper_stays_down_and_a_taken_request_is_remembered() {
     assert!(copy.sim_time_s() > 14.9);
 }
 
-#[test]
-fn an_unusable_resume_sample_is_refused_and_the_sim_stays_fresh() {
+/// A flat world, a simulation of it five frames in, and the resume sample it publishes then.
+fn five_frames_in() -> (
+    World,
+    PhysicsConfig,
+    PhysicsSim,
+    hopnav_ipc::messages::PhysicsState,
+) {
     let world = flat_world(48.0, 12.0, &[]);
     let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
-    let period_s = cfg.frame_period_s;
     let mut original = PhysicsSim::new(&world, &cfg, 3).unwrap();
     for _ in 0..5 {
         original.step_frame(&FrameInputs::default());
     }
     let good = published(&original, None);
+    (world, cfg, original, good)
+}
 
+#[test]
+fn a_resume_sample_that_fails_its_checks_is_refused() {
+    let (_, cfg, _, good) = five_frames_in();
+    let period_s = cfg.frame_period_s;
     let mut wrong_time = good;
     wrong_time.stamp.sim_time_ns += 100_000_000;
     assert!(matches!(
@@ -321,7 +331,12 @@ fn an_unusable_resume_sample_is_refused_and_the_sim_stays_fresh() {
         wire::resume_state(&nan, period_s),
         Err(ResumeSampleError::Invalid(Rejection::NonFinite(_)))
     ));
+}
 
+#[test]
+fn an_unusable_resume_sample_is_refused_and_the_sim_stays_fresh() {
+    let (world, cfg, _, good) = five_frames_in();
+    let period_s = cfg.frame_period_s;
     // A rover the world cannot hold (off the terrain): refused, and nothing changed.
     let mut off_terrain = wire::resume_state(&good, period_s).unwrap().snapshot;
     off_terrain.rover_drive.xy_m = [500.0, 0.0];
@@ -374,11 +389,19 @@ fn an_unusable_resume_sample_is_refused_and_the_sim_stays_fresh() {
     assert!(fresh.resume_from(&no_hop).is_err());
     assert_eq!(fresh.snapshot(), start);
 
-    // Only a fresh simulation resumes.
+    // After all those refusals it is still fresh, and resumes from a good sample.
+    fresh.resume_from(&snapshot).unwrap();
+    assert_eq!(fresh.frame_count(), 5);
+}
+
+#[test]
+fn only_a_fresh_simulation_resumes() {
+    let (_, cfg, mut original, good) = five_frames_in();
+    let snapshot = wire::resume_state(&good, cfg.frame_period_s)
+        .unwrap()
+        .snapshot;
     assert!(matches!(
         original.resume_from(&snapshot),
         Err(ResumeError::AlreadyStarted { frames: 5 })
     ));
-    fresh.resume_from(&snapshot).unwrap();
-    assert_eq!(fresh.frame_count(), 5);
 }

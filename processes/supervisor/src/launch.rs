@@ -101,6 +101,31 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     let wall_time_s = loop_started.elapsed().as_secs_f64();
     let leftover_files = remove_namespace_files(&namespace);
 
+    let cleanup = Cleanup {
+        stale_runs: stale.dead_runs,
+        leftover_files,
+    };
+    finish(&options, run_id, run_dir, wall_time_s, cleanup, graph)
+}
+
+/// What the launch cleaned up around its run, for the report.
+struct Cleanup {
+    /// Dead runs whose files were removed before this one started.
+    stale_runs: Vec<String>,
+    /// Files of this run's namespace left after shutdown.
+    leftover_files: usize,
+}
+
+/// Evaluates the mission, writes report.json and returns the outcome.
+fn finish(
+    options: &LaunchOptions,
+    run_id: String,
+    run_dir: PathBuf,
+    wall_time_s: f64,
+    cleanup: Cleanup,
+    graph: GraphRun,
+) -> Result<LaunchOutcome, LaunchError> {
+    let config = &options.config;
     let GraphRun {
         stats: frame_loop,
         fault_records,
@@ -110,10 +135,10 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
     let success = matches!(end, LoopEnd::Completed | LoopEnd::MissionEnded(_));
     let interrupted = end == LoopEnd::Interrupted;
     let outcome = outcome_text(&end);
-    let (mission_report, evaluation) = evaluate_mission(&options, mission.as_ref(), &run_dir);
+    let (mission_report, evaluation) = evaluate_mission(options, mission.as_ref(), &run_dir);
     let mut end_to_end = frame_loop.end_to_end_ns.clone();
     let report = RunReport {
-        run_id: run_id.clone(),
+        run_id,
         mode: if config.run.lockstep {
             "lockstep"
         } else {
@@ -130,8 +155,8 @@ pub fn launch(options: LaunchOptions) -> Result<LaunchOutcome, LaunchError> {
         end_to_end_latency: LatencySummary::from_ns(&mut end_to_end),
         end_to_end_misses: frame_loop.end_to_end_misses,
         processes: frame_loop.slots.iter().map(Slot::report).collect(),
-        stale_runs_cleaned: stale.dead_runs,
-        leftover_files,
+        stale_runs_cleaned: cleanup.stale_runs,
+        leftover_files: cleanup.leftover_files,
         faults: fault_records,
         mission: mission_report,
         mission_figure: evaluation.figure_path,

@@ -244,6 +244,104 @@ fn geometry_input(
     Ok((camera, scene))
 }
 
+/// The image stages' state: both pyramids, the detector and the tracker, and their buffers.
+struct ImageStages {
+    prev: Pyramid,
+    next: Pyramid,
+    detector: CornerDetector,
+    tracker: KltTracker,
+    prev_px: Vec<Point2<f32>>,
+    next_px: Vec<Point2<f32>>,
+    status: Vec<TrackStatus>,
+    survivors: Vec<Point2<f32>>,
+    new_corners: Vec<Corner>,
+}
+
+impl ImageStages {
+    /// Builds the first frame's pyramid and detects the corners the benchmark tracks.
+    fn new(config: &BenchConfig, first: &ImageView<'_>) -> Result<Self, BenchError> {
+        let (w, h) = (config.width, config.height);
+        let mut prev = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
+        let next = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
+        // 1000 features in 320² need a tighter spacing than the default 6 px.
+        let corner_config = CornerConfig {
+            max_features: config.features,
+            min_distance_px: 5.0,
+            fill_leftover_budget: true,
+            ..CornerConfig::default()
+        };
+        let mut detector = CornerDetector::new(w, h, corner_config).map_err(setup)?;
+        let tracker = KltTracker::new(KltConfig::default(), config.features).map_err(setup)?;
+        prev.build(first).map_err(setup)?;
+        let prev_px = first_corners(&mut detector, &prev, config.features)?;
+        Ok(Self {
+            prev,
+            next,
+            detector,
+            tracker,
+            next_px: vec![Point2::origin(); prev_px.len()],
+            status: vec![TrackStatus::Tracked; prev_px.len()],
+            prev_px,
+            survivors: Vec::with_capacity(config.features),
+            new_corners: Vec::with_capacity(config.features),
+        })
+    }
+
+    /// Runs the image stages on `second` and `geometry` on the scene's correspondences, once,
+    /// timing each into `t`; returns how many features were tracked.
+    fn time_frame(
+        &mut self,
+        second: &ImageView<'_>,
+        mut geometry: impl FnMut(),
+        t: &mut StageSamples,
+    ) -> Result<usize, BenchError> {
+        let start = Instant::now();
+        self.next.build(second).map_err(setup)?;
+        let after_pyramid = Instant::now();
+        let track_stats = self
+            .tracker
+            .track(
+                &self.prev,
+                &self.next,
+                &self.prev_px,
+                &mut self.next_px,
+                &mut self.status,
+                false,
+            )
+            .map_err(setup)?;
+        let after_klt = Instant::now();
+        self.survivors.clear();
+        self.survivors.extend(
+            self.next_px
+                .iter()
+                .zip(&self.status)
+                .filter(|(_, s)| **s == TrackStatus::Tracked)
+                .map(|(p, _)| *p),
+        );
+        self.detector
+            .detect(
+                self.next.level(0).ok_or_else(|| setup("no level"))?,
+                &self.survivors,
+                &mut self.new_corners,
+            )
+            .map_err(setup)?;
+        let after_corners = Instant::now();
+        geometry();
+        let end = Instant::now();
+        t.pyramid.push(micros(start, after_pyramid));
+        t.klt.push(micros(after_pyramid, after_klt));
+        t.corners.push(micros(after_klt, after_corners));
+        t.two_view.push(micros(after_corners, end));
+        t.frame.push(micros(start, end));
+        Ok(track_stats.tracked)
+    }
+}
+
+/// Microseconds from `a` to `b`.
+fn micros(a: Instant, b: Instant) -> f64 {
+    (b - a).as_secs_f64() * 1e6
+}
+
 /// Runs the per-frame pipeline `config.iterations` times and reports per-stage timings.
 pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchError> {
     if config.iterations == 0 {
@@ -253,24 +351,7 @@ pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchErr
     let (frame1, frame2) = synthetic_frames(w, h);
     let view1 = ImageView::packed(&frame1, w, h).map_err(setup)?;
     let view2 = ImageView::packed(&frame2, w, h).map_err(setup)?;
-
-    let mut prev = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
-    let mut next = Pyramid::new(w, h, PyramidConfig::default()).map_err(setup)?;
-    // 1000 features in 320² need a tighter spacing than the default 6 px.
-    let corner_config = CornerConfig {
-        max_features: config.features,
-        min_distance_px: 5.0,
-        fill_leftover_budget: true,
-        ..CornerConfig::default()
-    };
-    let mut detector = CornerDetector::new(w, h, corner_config).map_err(setup)?;
-    let mut tracker = KltTracker::new(KltConfig::default(), config.features).map_err(setup)?;
-    prev.build(&view1).map_err(setup)?;
-    let prev_px = first_corners(&mut detector, &prev, config.features)?;
-    let mut next_px = vec![Point2::origin(); prev_px.len()];
-    let mut status = vec![TrackStatus::Tracked; prev_px.len()];
-    let mut survivors: Vec<Point2<f32>> = Vec::with_capacity(config.features);
-    let mut new_corners: Vec<Corner> = Vec::with_capacity(config.features);
+    let mut images = ImageStages::new(config, &view1)?;
 
     let (camera, scene) = geometry_input(w, h, config.features)?;
     let mut two_view = TwoViewEstimator::new(TwoViewConfig::for_camera(&camera), config.features);
@@ -293,50 +374,22 @@ pub fn run_frame_benchmark(config: &BenchConfig) -> Result<BenchReport, BenchErr
     };
     let mut tracked = 0;
     for _ in 0..n {
-        let start = Instant::now();
-        next.build(&view2).map_err(setup)?;
-        let after_pyramid = Instant::now();
-        let track_stats = tracker
-            .track(&prev, &next, &prev_px, &mut next_px, &mut status, false)
-            .map_err(setup)?;
-        tracked = track_stats.tracked;
-        let after_klt = Instant::now();
-        survivors.clear();
-        survivors.extend(
-            next_px
-                .iter()
-                .zip(&status)
-                .filter(|(_, s)| **s == TrackStatus::Tracked)
-                .map(|(p, _)| *p),
-        );
-        detector
-            .detect(
-                next.level(0).ok_or_else(|| setup("no level"))?,
-                &survivors,
-                &mut new_corners,
-            )
-            .map_err(setup)?;
-        let after_corners = Instant::now();
         // A failed estimate is timed like a successful one.
-        let _ = two_view.estimate(&scene.x1_norm, &scene.x2_norm, None);
-        let end = Instant::now();
-        let us = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e6;
-        t.pyramid.push(us(start, after_pyramid));
-        t.klt.push(us(after_pyramid, after_klt));
-        t.corners.push(us(after_klt, after_corners));
-        t.two_view.push(us(after_corners, end));
-        t.frame.push(us(start, end));
+        let geometry = || {
+            let _ = two_view.estimate(&scene.x1_norm, &scene.x2_norm, None);
+        };
+        tracked = images.time_frame(&view2, geometry, &mut t)?;
         let a = Instant::now();
         let _ = e_ransac.run(&e_problem);
         let b = Instant::now();
         let _ = h_ransac.run(&h_problem);
         let c = Instant::now();
-        t.essential.push(us(a, b));
-        t.homography.push(us(b, c));
+        t.essential.push(micros(a, b));
+        t.homography.push(micros(b, c));
     }
     Ok(BenchReport {
         config: *config,
-        detected: prev_px.len(),
+        detected: images.prev_px.len(),
         tracked,
         correspondences: scene.x1_norm.len(),
         stages: t.into_stages(),

@@ -255,20 +255,7 @@ impl CornerDetector {
         out: &mut Vec<Corner>,
     ) -> Result<usize, CornerError> {
         out.clear();
-        if level.width() != self.width || level.height() != self.height {
-            return Err(CornerError::SizeMismatch {
-                width: self.width,
-                height: self.height,
-                got_width: level.width(),
-                got_height: level.height(),
-            });
-        }
-        if level.grad_x.pad() <= self.config.block_radius_px {
-            return Err(CornerError::BorderTooThin {
-                pad_px: level.grad_x.pad(),
-                block_radius_px: self.config.block_radius_px,
-            });
-        }
+        self.check_level(level)?;
         self.reset_grids();
         for &p in existing_px {
             if p.x.is_finite() && p.y.is_finite() {
@@ -284,8 +271,35 @@ impl CornerDetector {
         let max_response = self.compute_response(level);
         let threshold = (self.config.quality_level * max_response).max(self.config.min_response);
         self.collect_candidates(threshold);
-        let cap = self.per_cell_cap();
         let min_dist_sq = self.config.min_distance_px * self.config.min_distance_px;
+        self.take_per_cell(budget, min_dist_sq, out);
+        self.take_deferred(budget, min_dist_sq, out);
+        Ok(out.len())
+    }
+
+    /// `level` must have this detector's size and a border wider than the corner block.
+    fn check_level(&self, level: &PyramidLevel) -> Result<(), CornerError> {
+        if level.width() != self.width || level.height() != self.height {
+            return Err(CornerError::SizeMismatch {
+                width: self.width,
+                height: self.height,
+                got_width: level.width(),
+                got_height: level.height(),
+            });
+        }
+        if level.grad_x.pad() <= self.config.block_radius_px {
+            return Err(CornerError::BorderTooThin {
+                pad_px: level.grad_x.pad(),
+                block_radius_px: self.config.block_radius_px,
+            });
+        }
+        Ok(())
+    }
+
+    /// First pass: the strongest candidates, at most the per-cell cap in each grid cell;
+    /// those turned away by a full cell are deferred when leftover budget may be filled.
+    fn take_per_cell(&mut self, budget: usize, min_dist_sq: f32, out: &mut Vec<Corner>) {
+        let cap = self.per_cell_cap();
         for i in 0..self.candidates.len() {
             if out.len() >= budget {
                 break;
@@ -302,15 +316,13 @@ impl CornerDetector {
             if self.too_close(p, min_dist_sq) {
                 continue;
             }
-            self.bucket_counts[cell] += 1;
-            self.insert_point(p);
-            out.push(Corner {
-                position_px: p,
-                response: c.response,
-            });
+            self.accept(cell, p, c.response, out);
         }
-        // Second pass: budget left by texture-poor cells goes to the strongest corners that
-        // were turned away by a full cell.
+    }
+
+    /// Second pass: budget left by texture-poor cells goes to the strongest corners that
+    /// were turned away by a full cell.
+    fn take_deferred(&mut self, budget: usize, min_dist_sq: f32, out: &mut Vec<Corner>) {
         for k in 0..self.deferred.len() {
             if out.len() >= budget {
                 break;
@@ -321,14 +333,18 @@ impl CornerDetector {
                 continue;
             }
             let cell = self.cell_of(p);
-            self.bucket_counts[cell] += 1;
-            self.insert_point(p);
-            out.push(Corner {
-                position_px: p,
-                response: c.response,
-            });
+            self.accept(cell, p, c.response, out);
         }
-        Ok(out.len())
+    }
+
+    /// Adds the corner at `p` (in grid cell `cell`) to `out` and to the spacing grids.
+    fn accept(&mut self, cell: usize, p: Point2<f32>, response: f32, out: &mut Vec<Corner>) {
+        self.bucket_counts[cell] += 1;
+        self.insert_point(p);
+        out.push(Corner {
+            position_px: p,
+            response,
+        });
     }
 
     fn reset_grids(&mut self) {

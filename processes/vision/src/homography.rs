@@ -298,22 +298,7 @@ pub fn decompose_homography(
     if indices.iter().any(|&i| i >= x1.len() || i >= x2.len()) {
         return Err(HomographyError::BadInput);
     }
-    let svd = h
-        .try_svd(false, false, 1e-15, 200)
-        .ok_or(HomographyError::Degenerate)?;
-    let sigma2 = svd.singular_values[1];
-    if !(sigma2.is_finite() && sigma2 > 1e-12) {
-        return Err(HomographyError::Degenerate);
-    }
-    let mut hn = h / sigma2;
-    // Sign: x2ᵀ H x1 > 0 for points in front of both cameras.
-    let votes: f64 = indices
-        .iter()
-        .map(|&i| x2[i].push(1.0).dot(&(hn * x1[i].push(1.0))).signum())
-        .sum();
-    if votes < 0.0 {
-        hn = -hn;
-    }
+    let hn = normalized_homography(h, x1, x2, indices)?;
     let eig = (hn.transpose() * hn)
         .try_symmetric_eigen(1e-15, 500)
         .ok_or(HomographyError::Degenerate)?;
@@ -336,37 +321,73 @@ pub fn decompose_homography(
     let u2 = (v1 * a - v3 * b) / c;
     let mut candidates = Vec::with_capacity(4);
     for u in [u1, u2] {
-        let big_u = Matrix3::from_columns(&[v2, u, v2.cross(&u)]);
-        let (hv2, hu) = (hn * v2, hn * u);
-        let big_w = Matrix3::from_columns(&[hv2, hu, hv2.cross(&hu)]);
-        let r = big_w * big_u.transpose();
-        let n = v2.cross(&u);
-        let t = (hn - r) * n;
-        for sign in [1.0, -1.0] {
-            let (n_s, t_s) = (n * sign, t * sign);
-            let visible = indices
-                .iter()
-                .filter(|&&i| n_s.dot(&x1[i].push(1.0)) > 0.0)
-                .count();
-            if 2 * visible < indices.len() || (indices.is_empty() && n_s.z <= 0.0) {
-                continue;
-            }
-            let Some(rotation) = nearest_rotation(&r) else {
-                continue;
-            };
-            let pose = Isometry3::from_parts(
-                Translation3::from(t_s),
-                UnitQuaternion::from_rotation_matrix(&rotation),
-            );
-            candidates.push(HomographyCandidate {
-                cam2_from_cam1: pose,
-                normal_cam1: Unit::new_normalize(n_s),
-                num_in_front: count_in_front(&pose, x1, x2, indices),
-            });
-        }
+        push_candidates(&hn, &v2, &u, (x1, x2), indices, &mut candidates);
     }
     candidates.sort_by_key(|c| std::cmp::Reverse(c.num_in_front));
     Ok(HomographyDecomposition::Planar { candidates })
+}
+
+/// `h` scaled so that its middle singular value is 1, with the sign that puts the
+/// correspondences `indices` in front of both cameras (x2ᵀ H x1 > 0).
+fn normalized_homography(
+    h: &Matrix3<f64>,
+    x1: &[Vector2<f64>],
+    x2: &[Vector2<f64>],
+    indices: &[usize],
+) -> Result<Matrix3<f64>, HomographyError> {
+    let svd = h
+        .try_svd(false, false, 1e-15, 200)
+        .ok_or(HomographyError::Degenerate)?;
+    let sigma2 = svd.singular_values[1];
+    if !(sigma2.is_finite() && sigma2 > 1e-12) {
+        return Err(HomographyError::Degenerate);
+    }
+    let hn = h / sigma2;
+    let votes: f64 = indices
+        .iter()
+        .map(|&i| x2[i].push(1.0).dot(&(hn * x1[i].push(1.0))).signum())
+        .sum();
+    Ok(if votes < 0.0 { -hn } else { hn })
+}
+
+/// Adds the two candidates (plane normal ±n) of one solution `u` of the normalised
+/// homography `hn`, keeping those that see most of the correspondences `indices`.
+fn push_candidates(
+    hn: &Matrix3<f64>,
+    v2: &Vector3<f64>,
+    u: &Vector3<f64>,
+    (x1, x2): (&[Vector2<f64>], &[Vector2<f64>]),
+    indices: &[usize],
+    candidates: &mut Vec<HomographyCandidate>,
+) {
+    let big_u = Matrix3::from_columns(&[*v2, *u, v2.cross(u)]);
+    let (hv2, hu) = (hn * v2, hn * u);
+    let big_w = Matrix3::from_columns(&[hv2, hu, hv2.cross(&hu)]);
+    let r = big_w * big_u.transpose();
+    let n = v2.cross(u);
+    let t = (hn - r) * n;
+    for sign in [1.0, -1.0] {
+        let (n_s, t_s) = (n * sign, t * sign);
+        let visible = indices
+            .iter()
+            .filter(|&&i| n_s.dot(&x1[i].push(1.0)) > 0.0)
+            .count();
+        if 2 * visible < indices.len() || (indices.is_empty() && n_s.z <= 0.0) {
+            continue;
+        }
+        let Some(rotation) = nearest_rotation(&r) else {
+            continue;
+        };
+        let pose = Isometry3::from_parts(
+            Translation3::from(t_s),
+            UnitQuaternion::from_rotation_matrix(&rotation),
+        );
+        candidates.push(HomographyCandidate {
+            cam2_from_cam1: pose,
+            normal_cam1: Unit::new_normalize(n_s),
+            num_in_front: count_in_front(&pose, x1, x2, indices),
+        });
+    }
 }
 
 /// Closest rotation (Frobenius) to `m`.

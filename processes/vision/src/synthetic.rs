@@ -229,6 +229,21 @@ impl TwoViewScene {
     }
 }
 
+/// Exact normalised coordinates of `points_cam1` in camera 1 and, moved by `cam2_from_cam1`,
+/// in camera 2 (no noise, no visibility test).
+pub fn exact_views(
+    cam2_from_cam1: &Isometry3<f64>,
+    points_cam1: &[Point3<f64>],
+) -> (Vec<Vector2<f64>>, Vec<Vector2<f64>>) {
+    let project = |p: &Point3<f64>| Vector2::new(p.x / p.z, p.y / p.z);
+    let x1 = points_cam1.iter().map(project).collect();
+    let x2 = points_cam1
+        .iter()
+        .map(|p| project(&(cam2_from_cam1 * p)))
+        .collect();
+    (x1, x2)
+}
+
 /// `count` random points in a box in front of camera 1: `x, y ∈ ±half_extent_m`, `z ∈ [z_min_m, z_max_m]`.
 pub fn random_points_in_box(
     count: usize,

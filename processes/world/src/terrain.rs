@@ -170,14 +170,18 @@ impl Heightfield {
         (i, j, gx - i as f64, gy - j as f64)
     }
 
-    /// Bilinearly interpolated height at (x, y), metres; outside the grid the border value.
-    pub fn height_at(&self, x_m: f64, y_m: f64) -> f64 {
+    /// Heights of the four nodes of the cell holding (x, y), `[h00, h10, h01, h11]`, and the
+    /// position's fractions along x and y within that cell.
+    fn cell_at(&self, x_m: f64, y_m: f64) -> ([f64; 4], f64, f64) {
         let (i, j, fx, fy) = self.locate(x_m, y_m);
         let k = j * self.nx + i;
-        let h00 = self.heights_m[k];
-        let h10 = self.heights_m[k + 1];
-        let h01 = self.heights_m[k + self.nx];
-        let h11 = self.heights_m[k + self.nx + 1];
+        let h = &self.heights_m;
+        ([h[k], h[k + 1], h[k + self.nx], h[k + self.nx + 1]], fx, fy)
+    }
+
+    /// Bilinearly interpolated height at (x, y), metres; outside the grid the border value.
+    pub fn height_at(&self, x_m: f64, y_m: f64) -> f64 {
+        let ([h00, h10, h01, h11], fx, fy) = self.cell_at(x_m, y_m);
         let a = h00 + (h10 - h00) * fx;
         let b = h01 + (h11 - h01) * fx;
         a + (b - a) * fy
@@ -185,12 +189,7 @@ impl Heightfield {
 
     /// Gradient `[∂z/∂x, ∂z/∂y]` of the bilinear surface at (x, y).
     pub fn gradient_at(&self, x_m: f64, y_m: f64) -> [f64; 2] {
-        let (i, j, fx, fy) = self.locate(x_m, y_m);
-        let k = j * self.nx + i;
-        let h00 = self.heights_m[k];
-        let h10 = self.heights_m[k + 1];
-        let h01 = self.heights_m[k + self.nx];
-        let h11 = self.heights_m[k + self.nx + 1];
+        let ([h00, h10, h01, h11], fx, fy) = self.cell_at(x_m, y_m);
         let dzdx = ((h10 - h00) * (1.0 - fy) + (h11 - h01) * fy) / self.spacing_m;
         let dzdy = ((h01 - h00) * (1.0 - fx) + (h11 - h10) * fx) / self.spacing_m;
         [dzdx, dzdy]

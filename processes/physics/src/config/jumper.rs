@@ -91,7 +91,7 @@ impl Default for JumperConfig {
 }
 
 impl JumperConfig {
-    /// Checks the values under `keys`.
+    /// Checks the values under `keys`: the start and the launch, then the body and landing.
     pub(crate) fn validate(&self, k: &Keys) -> Result<(), ConfigError> {
         k.start_pose(self.start_xy_m, self.start_yaw_rad)?;
         k.real(
@@ -135,6 +135,11 @@ impl JumperConfig {
                 Interval::closed(-10.0, 10.0),
             )?;
         }
+        self.validate_body_and_landing(k)
+    }
+
+    /// Checks the cube's body and contact values and when it counts as landed.
+    fn validate_body_and_landing(&self, k: &Keys) -> Result<(), ConfigError> {
         k.real(
             "half_extent_m",
             self.half_extent_m,

@@ -98,7 +98,7 @@ impl RoverConfig {
         }
     }
 
-    /// Checks the values under `keys`.
+    /// Checks the values under `keys`: the start, the body's geometry, then the motion.
     pub(crate) fn validate(&self, k: &Keys) -> Result<(), ConfigError> {
         k.start_pose(self.start_xy_m, self.start_yaw_rad)?;
         k.real("wheelbase_m", self.wheelbase_m, Interval::closed(0.1, 10.0))?;
@@ -131,6 +131,11 @@ impl RoverConfig {
             Interval::closed(0.0, self.ground_clearance_m),
             &["ground_clearance_m"],
         )?;
+        self.validate_motion(k)
+    }
+
+    /// Checks the drive's limits and how it steers and arrives.
+    fn validate_motion(&self, k: &Keys) -> Result<(), ConfigError> {
         k.real(
             "max_tilt_rad",
             self.max_tilt_rad,

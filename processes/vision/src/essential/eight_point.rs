@@ -16,7 +16,7 @@
 //! assert!(sampson_error_sq(&e, &x1[0], &x2[0]) < 1e-18);
 //! ```
 
-use super::{hartley_normalization, project_to_essential};
+use super::{epipolar_row, hartley_normalization, project_to_essential};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2};
 
 /// Error of the 8-point solver.
@@ -57,17 +57,7 @@ pub fn essential_eight_point(
     for &i in indices {
         let a = t1 * x1[i].push(1.0);
         let b = t2 * x2[i].push(1.0);
-        let row = SVector::<f64, 9>::from_column_slice(&[
-            b.x * a.x,
-            b.x * a.y,
-            b.x,
-            b.y * a.x,
-            b.y * a.y,
-            b.y,
-            a.x,
-            a.y,
-            1.0,
-        ]);
+        let row = SVector::<f64, 9>::from(epipolar_row([a.x, a.y], [b.x, b.y]));
         ata += row * row.transpose();
     }
     let f = smallest_eigenvector(ata).ok_or(EightPointError::Degenerate)?;
@@ -117,17 +107,7 @@ mod tests {
     fn exact_recovery() {
         let pose = Isometry3::new(Vector3::new(-0.3, 0.1, 1.0), Vector3::new(0.1, -0.05, 0.2));
         let pts = crate::synthetic::random_points_in_box(30, 3.0, 3.0, 9.0, 4);
-        let x1: Vec<_> = pts
-            .iter()
-            .map(|p| Vector2::new(p.x / p.z, p.y / p.z))
-            .collect();
-        let x2: Vec<_> = pts
-            .iter()
-            .map(|p| {
-                let q = pose * p;
-                Vector2::new(q.x / q.z, q.y / q.z)
-            })
-            .collect();
+        let (x1, x2) = crate::synthetic::exact_views(&pose, &pts);
         let idx: Vec<usize> = (0..30).collect();
         let e = essential_eight_point(&x1, &x2, &idx).unwrap();
         let truth = essential_from_pose(&pose).normalize();

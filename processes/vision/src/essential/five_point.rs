@@ -203,17 +203,7 @@ fn null_space_basis(
     let mut q = SMatrix::<f64, 9, 9>::zeros();
     for (r, &i) in indices.iter().take(5).enumerate() {
         let (a, b) = (x1.get(i)?, x2.get(i)?);
-        let row = [
-            b.x * a.x,
-            b.x * a.y,
-            b.x,
-            b.y * a.x,
-            b.y * a.y,
-            b.y,
-            a.x,
-            a.y,
-            1.0,
-        ];
+        let row = super::epipolar_row([a.x, a.y], [b.x, b.y]);
         for (c, v) in row.iter().enumerate() {
             q[(r, c)] = *v;
         }
@@ -363,17 +353,7 @@ mod tests {
                 ),
             );
             let pts = crate::synthetic::random_points_in_box(5, 2.0, 4.0, 10.0, trial);
-            let x1: Vec<_> = pts
-                .iter()
-                .map(|p| Vector2::new(p.x / p.z, p.y / p.z))
-                .collect();
-            let x2: Vec<_> = pts
-                .iter()
-                .map(|p| {
-                    let q = pose * p;
-                    Vector2::new(q.x / q.z, q.y / q.z)
-                })
-                .collect();
+            let (x1, x2) = crate::synthetic::exact_views(&pose, &pts);
             let mut sols = Vec::new();
             essential_five_point(&x1, &x2, &[0, 1, 2, 3, 4], &mut sols);
             assert!(sols.len() <= 10);

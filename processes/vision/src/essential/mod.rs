@@ -181,6 +181,12 @@ pub fn count_in_front(
         .count()
 }
 
+/// Coefficients of the epipolar constraint `x2ᵀ E x1 = 0` of one correspondence, in the
+/// row-major order of `E`'s entries: `(x1, y1)` in view 1, `(x2, y2)` in view 2.
+pub(crate) fn epipolar_row([x1, y1]: [f64; 2], [x2, y2]: [f64; 2]) -> [f64; 9] {
+    [x2 * x1, x2 * y1, x2, y2 * x1, y2 * y1, y2, x1, y1, 1.0]
+}
+
 /// Hartley normalisation of the selected points: `T` maps them to zero mean and mean distance
 /// `√2`. `None` if all points coincide or a value is non-finite.
 pub(crate) fn hartley_normalization(

@@ -20,40 +20,103 @@ pub(crate) fn draw_chunk(
     mat: &TerrainMaterial<'_>,
 ) -> u32 {
     let ch = &scene.chunks[k];
+    let s = 1usize << lod[k];
+    let nv = (ch.ci / s + 1, ch.cj / s + 1);
+    transform_vertices(scene, k, lod, view, proj, clip, screen);
+    let sp = scene.spacing;
+    let (tu, tv) = (sp * scene.inv_texel[0], sp * scene.inv_texel[1]);
+    let cell_uv_area = 0.5 * (s as f32 * tu) * (s as f32 * tv);
+    draw_cells(nv, cell_uv_area, proj, clip, screen, target, mat)
+}
+
+/// LOD levels of a chunk's four neighbours (0 where there is none).
+struct NeighbourLods {
+    left: u8,
+    right: u8,
+    down: u8,
+    up: u8,
+}
+
+impl NeighbourLods {
+    fn of(scene: &RenderScene, lod: &[u8], k: usize) -> Self {
+        let (cx, cy) = (k % scene.chunks_x, k / scene.chunks_x);
+        let neighbour = |cond: bool, idx: usize| if cond { lod[idx] } else { 0 };
+        Self {
+            left: neighbour(cx > 0, k.wrapping_sub(1)),
+            right: neighbour(cx + 1 < scene.chunks_x, k + 1),
+            down: neighbour(cy > 0, k.wrapping_sub(scene.chunks_x)),
+            up: neighbour(cy + 1 < scene.chunks_y, k + scene.chunks_x),
+        }
+    }
+}
+
+/// Heightmap lookups, clamped to the grid.
+struct Heights<'a> {
+    heights: &'a [f32],
+    nx: usize,
+    max_i: usize,
+    max_j: usize,
+}
+
+impl<'a> Heights<'a> {
+    fn of(scene: &'a RenderScene) -> Self {
+        Self {
+            heights: &scene.heights,
+            nx: scene.nx,
+            max_i: scene.nx - 1,
+            max_j: scene.ny - 1,
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, i: usize, j: usize) -> f32 {
+        self.heights[j.min(self.max_j) * self.nx + i.min(self.max_i)]
+    }
+
+    /// Height on an edge along j shared with a coarser neighbour of step 2^nl.
+    #[inline(always)]
+    fn along_j(&self, i: usize, j: usize, nl: u8) -> f32 {
+        on_coarse_edge(j, nl, |j| self.at(i, j))
+    }
+
+    /// Height on an edge along i shared with a coarser neighbour of step 2^nl.
+    #[inline(always)]
+    fn along_i(&self, i: usize, j: usize, nl: u8) -> f32 {
+        on_coarse_edge(i, nl, |i| self.at(i, j))
+    }
+}
+
+/// Height at node `pos` of an edge drawn with step 2^nl: interpolated between the coarse
+/// step's nodes, so the finer chunk leaves no crack against its coarser neighbour.
+#[inline(always)]
+fn on_coarse_edge(pos: usize, nl: u8, at: impl Fn(usize) -> f32) -> f32 {
+    let big = 1usize << nl;
+    let r = pos % big;
+    if r == 0 {
+        at(pos)
+    } else {
+        let f = r as f32 / big as f32;
+        at(pos - r) * (1.0 - f) + at(pos - r + big) * f
+    }
+}
+
+/// Fills `clip` with chunk `k`'s vertices in camera space (edges stitched to coarser
+/// neighbours) and `screen` with the projections of those in front of the near plane.
+fn transform_vertices(
+    scene: &RenderScene,
+    k: usize,
+    lod: &[u8],
+    view: &View,
+    proj: &Projector,
+    clip: &mut [ClipVertex],
+    screen: &mut [ScreenVertex],
+) {
+    let ch = &scene.chunks[k];
     let l = lod[k];
     let s = 1usize << l;
     let (nvx, nvy) = (ch.ci / s + 1, ch.cj / s + 1);
-    let (cx, cy) = (k % scene.chunks_x, k / scene.chunks_x);
-    let neighbour = |cond: bool, idx: usize| if cond { lod[idx] } else { 0 };
-    let l_left = neighbour(cx > 0, k.wrapping_sub(1));
-    let l_right = neighbour(cx + 1 < scene.chunks_x, k + 1);
-    let l_down = neighbour(cy > 0, k.wrapping_sub(scene.chunks_x));
-    let l_up = neighbour(cy + 1 < scene.chunks_y, k + scene.chunks_x);
-    let nx = scene.nx;
-    let hmax_i = scene.nx - 1;
-    let hmax_j = scene.ny - 1;
-    let h = |i: usize, j: usize| scene.heights[j.min(hmax_j) * nx + i.min(hmax_i)];
-    // Height on an edge shared with a coarser neighbour of step 2^nl: interpolate along it.
-    let along_j = |i: usize, j: usize, nl: u8| {
-        let big = 1usize << nl;
-        let r = j % big;
-        if r == 0 {
-            h(i, j)
-        } else {
-            let f = r as f32 / big as f32;
-            h(i, j - r) * (1.0 - f) + h(i, j - r + big) * f
-        }
-    };
-    let along_i = |i: usize, j: usize, nl: u8| {
-        let big = 1usize << nl;
-        let r = i % big;
-        if r == 0 {
-            h(i, j)
-        } else {
-            let f = r as f32 / big as f32;
-            h(i - r, j) * (1.0 - f) + h(i - r + big, j) * f
-        }
-    };
+    let around = NeighbourLods::of(scene, lod, k);
+    let heights = Heights::of(scene);
     let sp = scene.spacing;
     let (tu, tv) = (sp * scene.inv_texel[0], sp * scene.inv_texel[1]);
     let u_off = (scene.origin[0] - scene.atlas_origin[0]) * scene.inv_texel[0];
@@ -63,16 +126,16 @@ pub(crate) fn draw_chunk(
         let gj = ch.j0 + b * s;
         for a in 0..nvx {
             let gi = ch.i0 + a * s;
-            let mut z = h(gi, gj);
-            if a == 0 && l_left > l {
-                z = along_j(gi, gj, l_left);
-            } else if a + 1 == nvx && l_right > l {
-                z = along_j(gi, gj, l_right);
+            let mut z = heights.at(gi, gj);
+            if a == 0 && around.left > l {
+                z = heights.along_j(gi, gj, around.left);
+            } else if a + 1 == nvx && around.right > l {
+                z = heights.along_j(gi, gj, around.right);
             }
-            if b == 0 && l_down > l {
-                z = along_i(gi, gj, l_down);
-            } else if b + 1 == nvy && l_up > l {
-                z = along_i(gi, gj, l_up);
+            if b == 0 && around.down > l {
+                z = heights.along_i(gi, gj, around.down);
+            } else if b + 1 == nvy && around.up > l {
+                z = heights.along_i(gi, gj, around.up);
             }
             let p = [
                 scene.origin[0] + gi as f32 * sp,
@@ -92,7 +155,19 @@ pub(crate) fn draw_chunk(
             idx += 1;
         }
     }
-    let cell_uv_area = 0.5 * (s as f32 * tu) * (s as f32 * tv);
+}
+
+/// Draws two triangles per cell of an `nv.0` × `nv.1` vertex grid: projected when all three
+/// corners are in front of the near plane, clipped when some are; returns how many.
+fn draw_cells(
+    (nvx, nvy): (usize, usize),
+    cell_uv_area: f32,
+    proj: &Projector,
+    clip: &[ClipVertex],
+    screen: &[ScreenVertex],
+    target: &mut Target<'_>,
+    mat: &TerrainMaterial<'_>,
+) -> u32 {
     let near = proj.near;
     let mut count = 0;
     for b in 0..nvy - 1 {

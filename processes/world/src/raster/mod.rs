@@ -173,19 +173,10 @@ impl Renderer {
         let (w, h) = self.check_target(world_from_camera, out.len(), stride)?;
         self.prepare(scene);
 
-        self.zbuf.fill(0.0);
-        for row in 0..h {
-            out[row * stride..row * stride + w].fill(self.cfg.sky_dn);
-        }
+        self.clear(out, stride, (w, h));
         let frame = self.frame((w, h));
         let view = View::new(world_from_camera, &frame);
-        let proj = Projector {
-            fx: frame.fx,
-            fy: frame.fy,
-            cx: frame.cx,
-            cy: frame.cy,
-            near: frame.near,
-        };
+        let proj = frame.projector();
         let focal = frame.fx.max(frame.fy);
         let mut stats = RenderStats::default();
 
@@ -246,6 +237,14 @@ impl Renderer {
         let Target { zbuf, out, .. } = target;
         self.noise.apply(noise_key, zbuf, out, stride, w);
         Ok(stats)
+    }
+
+    /// Empties the depth buffer and paints the image with the sky.
+    fn clear(&mut self, out: &mut [u8], stride: usize, (w, h): (usize, usize)) {
+        self.zbuf.fill(0.0);
+        for row in 0..h {
+            out[row * stride..row * stride + w].fill(self.cfg.sky_dn);
+        }
     }
 
     /// The camera's intrinsics for an image of `w`×`h` pixels, in `f32`.

@@ -145,6 +145,49 @@ fn ceil_clamped(v: f32, max: f32) -> usize {
     (t + i32::from((t as f32) < v)) as usize
 }
 
+/// The vertices sorted by (y, x), so every edge is always walked from the same endpoint.
+#[inline(always)]
+fn sorted_by_row<'v>(
+    a: &'v ScreenVertex,
+    b: &'v ScreenVertex,
+    c: &'v ScreenVertex,
+) -> (&'v ScreenVertex, &'v ScreenVertex, &'v ScreenVertex) {
+    let key = |v: &ScreenVertex| (v.y, v.x);
+    let less = |p: &ScreenVertex, q: &ScreenVertex| key(p) < key(q);
+    let (mut t, mut m, mut bt) = (a, b, c);
+    if less(m, t) {
+        std::mem::swap(&mut t, &mut m);
+    }
+    if less(bt, m) {
+        std::mem::swap(&mut m, &mut bt);
+    }
+    if less(m, t) {
+        std::mem::swap(&mut t, &mut m);
+    }
+    (t, m, bt)
+}
+
+/// Screen-space x and y gradients of the four attributes `attrs` of the triangle `(a, b, c)`;
+/// `inv` is one over its twice-signed area.
+#[inline(always)]
+fn gradients(
+    (a, b, c): (&ScreenVertex, &ScreenVertex, &ScreenVertex),
+    (a0, a1, a2): ([f32; 4], [f32; 4], [f32; 4]),
+    inv: f32,
+) -> ([f32; 4], [f32; 4]) {
+    let (dx1, dy1) = (b.x - a.x, b.y - a.y);
+    let (dx2, dy2) = (c.x - a.x, c.y - a.y);
+    let mut ddx = [0f32; 4];
+    let mut ddy = [0f32; 4];
+    for k in 0..4 {
+        let d1 = a1[k] - a0[k];
+        let d2 = a2[k] - a0[k];
+        ddx[k] = (d1 * dy2 - d2 * dy1) * inv;
+        ddy[k] = (d2 * dx1 - d1 * dx2) * inv;
+    }
+    (ddx, ddy)
+}
+
 /// A triangle ready to fill: sorted vertices, edge slopes, attribute gradients.
 pub(crate) struct Setup {
     top: (f32, f32),
@@ -195,19 +238,7 @@ impl Setup {
         if ceil_clamped(xmin, wf) >= ceil_clamped(xmax, wf) {
             return None;
         }
-        // Sort by (y, x) so every edge is always walked from the same endpoint.
-        let key = |v: &ScreenVertex| (v.y, v.x);
-        let less = |p: &ScreenVertex, q: &ScreenVertex| key(p) < key(q);
-        let (mut t, mut m, mut bt) = (a, b, c);
-        if less(m, t) {
-            std::mem::swap(&mut t, &mut m);
-        }
-        if less(bt, m) {
-            std::mem::swap(&mut m, &mut bt);
-        }
-        if less(m, t) {
-            std::mem::swap(&mut t, &mut m);
-        }
+        let (t, m, bt) = sorted_by_row(a, b, c);
         let slope = |p: &ScreenVertex, q: &ScreenVertex| (q.x - p.x) / (q.y - p.y);
         let slope_long = slope(t, bt);
         let x_long_at_mid = t.x + (m.y - t.y) * slope_long;
@@ -225,17 +256,8 @@ impl Setup {
                 [v.iz, v.uz, v.vz, v.sz]
             }
         };
-        let (a0, a1, a2) = (attrs(a), attrs(b), attrs(c));
-        let (dx1, dy1) = (b.x - a.x, b.y - a.y);
-        let (dx2, dy2) = (c.x - a.x, c.y - a.y);
-        let mut ddx = [0f32; 4];
-        let mut ddy = [0f32; 4];
-        for k in 0..4 {
-            let d1 = a1[k] - a0[k];
-            let d2 = a2[k] - a0[k];
-            ddx[k] = (d1 * dy2 - d2 * dy1) * inv;
-            ddy[k] = (d2 * dx1 - d1 * dx2) * inv;
-        }
+        let a0 = attrs(a);
+        let (ddx, ddy) = gradients((a, b, c), (a0, attrs(b), attrs(c)), inv);
         Some(Self {
             top: (t.x, t.y),
             mid: (m.x, m.y),
@@ -432,6 +454,17 @@ mod tests {
         }
     }
 
+    /// A `w`×`h` target whose rows follow each other without padding.
+    fn packed_target<'a>(z: &'a mut [f32], out: &'a mut [u8], w: usize, h: usize) -> Target<'a> {
+        Target {
+            zbuf: z,
+            out,
+            stride: w,
+            width: w,
+            height: h,
+        }
+    }
+
     fn sv(x: f32, y: f32) -> ScreenVertex {
         ScreenVertex {
             x,
@@ -452,13 +485,7 @@ mod tests {
         for tri in [[0, 2, 1], [0, 3, 2]] {
             z.iter_mut().for_each(|v| *v = 0.0);
             out.iter_mut().for_each(|v| *v = 0);
-            let mut t = Target {
-                zbuf: &mut z,
-                out: &mut out,
-                stride: w,
-                width: w,
-                height: h,
-            };
+            let mut t = packed_target(&mut z, &mut out, w, h);
             assert!(draw_projected(
                 &mut t,
                 &Flat(1),
@@ -483,13 +510,7 @@ mod tests {
         let (w, h) = (8, 8);
         let mut z = vec![0f32; w * h];
         let mut out = vec![0u8; w * h];
-        let mut t = Target {
-            zbuf: &mut z,
-            out: &mut out,
-            stride: w,
-            width: w,
-            height: h,
-        };
+        let mut t = packed_target(&mut z, &mut out, w, h);
         let (a, b, c) = (sv(0.0, 0.0), sv(7.0, 0.0), sv(0.0, 7.0));
         assert!(!draw_projected(&mut t, &Flat(1), &a, &b, &c, 1.0));
         assert!(draw_projected(&mut t, &Flat(1), &a, &c, &b, 1.0));

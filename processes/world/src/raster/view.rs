@@ -2,6 +2,8 @@
 
 use nalgebra::Isometry3;
 
+use super::tri::Projector;
+
 /// The camera of one frame in `f32`: centre and axes in world coordinates, frustum planes.
 pub(crate) struct View {
     /// Camera centre, world metres.
@@ -35,6 +37,19 @@ pub(crate) struct Frame {
     pub width: f32,
     pub height: f32,
     pub near: f32,
+}
+
+impl Frame {
+    /// The projection of camera-space vertices onto this image.
+    pub fn projector(&self) -> Projector {
+        Projector {
+            fx: self.fx,
+            fy: self.fy,
+            cx: self.cx,
+            cy: self.cy,
+            near: self.near,
+        }
+    }
 }
 
 impl View {

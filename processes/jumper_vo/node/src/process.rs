@@ -10,6 +10,7 @@ use hopnav_ipc::messages::{
     AltimeterSample, CloudHeader, FeaturePoint, FrameTick, HopLaunch, ImageHeader, Pose3,
     PoseEstimate, Robot,
 };
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber, Subscriber};
@@ -21,22 +22,8 @@ use hopnav_jumper_vo::config::JumperVoConfig;
 use hopnav_jumper_vo::output::FrameInput;
 use hopnav_jumper_vo::pipeline::JumperVo;
 
-/// Why the jumper VO process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum JumperVoProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+/// Why the jumper VO process failed: only the plumbing every node shares.
+pub type JumperVoProcessError = NodeError;
 
 /// Parses and validates `[jumper_vo]`; errors name `jumper_vo.<key>`.
 pub fn jumper_vo_section(config: &HopnavConfig) -> Result<JumperVoConfig, ConfigError> {

@@ -17,6 +17,7 @@ use hopnav_ipc::messages::{
     CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3, PoseEstimate,
     Robot,
 };
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber, ValidSlice};
@@ -27,22 +28,8 @@ use hopnav_rover_vo::config::RoverVoConfig;
 use hopnav_rover_vo::motion::{Intrinsics, Tilt};
 use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, start_pose};
 
-/// Why the rover VO process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum RoverVoProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+/// Why the rover VO process failed: only the plumbing every node shares.
+pub type RoverVoProcessError = NodeError;
 
 /// Physics' default rover start, used when neither the config nor a scenario gives one.
 const PHYSICS_DEFAULT_START_XY_M: [f64; 2] = [-12.0, -1.5];

@@ -118,6 +118,15 @@ pub struct OutOfRange {
     pub range: String,
 }
 
+impl OutOfRange {
+    /// Adds a note to the range, e.g. `per axis` or what a bound comes from:
+    /// `[0, 100] (0 disables)`.
+    pub fn noted(mut self, note: &str) -> Self {
+        self.range = format!("{} ({note})", self.range);
+        self
+    }
+}
+
 /// Checks an integer against the inclusive range `[lo, hi]`; the error names `prefix.field`.
 pub fn check_int(prefix: &str, field: &str, v: u64, lo: u64, hi: u64) -> Result<(), OutOfRange> {
     if (lo..=hi).contains(&v) {

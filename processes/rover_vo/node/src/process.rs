@@ -46,9 +46,9 @@ pub fn rover_vo_section(config: &HopnavConfig) -> Result<RoverVoConfig, ConfigEr
     section
         .validate()
         .map_err(|error| ConfigError::OutOfRange {
-            key: format!("rover_vo.{}", error.key),
-            value: error.value,
-            allowed: error.allowed.to_owned(),
+            key: error.0.key,
+            value: error.0.value,
+            allowed: error.0.range,
         })?;
     Ok(section)
 }

@@ -278,25 +278,22 @@ impl RoverVoProcess {
             self.clouds.send_from_fn(
                 len,
                 |cloud_header| {
-                    cloud_header.stamp.frame_index = stamp.frame_index;
-                    cloud_header.stamp.sim_time_ns = stamp.sim_time_ns;
-                    cloud_header.world_from_camera = world_from_camera;
-                    cloud_header.point_count = len as u32;
-                    cloud_header.robot = Robot::Rover.code();
-                    cloud_header.keyframe_index = keyframe_index;
+                    *cloud_header = CloudHeader::keyframe(
+                        Robot::Rover,
+                        &stamp,
+                        world_from_camera,
+                        len,
+                        keyframe_index,
+                    );
                 },
                 |index| {
                     let point = &cloud[index];
-                    FeaturePoint {
-                        position_m: [
-                            point.position_m.x as f32,
-                            point.position_m.y as f32,
-                            point.position_m.z as f32,
-                        ],
-                        height_above_ground_m: point.height_above_ground_m as f32,
-                        track_id: point.track_id,
-                        depth_sigma_m: point.depth_sigma_m as f32,
-                    }
+                    FeaturePoint::from_estimate(
+                        point.position_m.into(),
+                        Some(point.height_above_ground_m),
+                        point.track_id,
+                        point.depth_sigma_m,
+                    )
                 },
             )?;
         }

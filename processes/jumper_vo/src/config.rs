@@ -10,7 +10,7 @@
 //! assert!(err.contains("jumper_vo.keyframe_min_parallax_deg"));
 //! ```
 
-use hopnav_config::range::{Interval, OutOfRange, check_int};
+use hopnav_config::range::{OutOfRange, Table};
 use serde::{Deserialize, Serialize};
 
 /// How the metric scale of the monocular translation is obtained.
@@ -165,111 +165,95 @@ impl Default for JumperVoConfig {
     }
 }
 
-/// A configuration value out of range: the error names `jumper_vo.<key>`, the value and the
-/// allowed range.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{} must be in {}, got {}", .0.key, .0.range, .0.value)]
-pub struct ConfigError(pub OutOfRange);
+/// A configuration value out of range: it names `jumper_vo.<key>`, the value and the allowed
+/// range.
+pub type ConfigError = OutOfRange;
 
-impl From<OutOfRange> for ConfigError {
-    fn from(rejected: OutOfRange) -> Self {
-        Self(rejected)
-    }
-}
-
-/// The table every key lives under.
-const SECTION: &str = "jumper_vo";
-
-fn real(key: &str, value: f64, lo: f64, hi: f64) -> Result<(), OutOfRange> {
-    Interval::closed(lo, hi).check(SECTION, key, value)
-}
-
-fn count(key: &str, value: usize, lo: usize, hi: usize) -> Result<(), OutOfRange> {
-    check_int(SECTION, key, value as u64, lo as u64, hi as u64)
-}
+/// The `[jumper_vo]` keys, for their range checks.
+const KEYS: Table = Table::new("jumper_vo");
 
 impl JumperVoConfig {
     /// Checks every value; the error names `jumper_vo.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        count("max_features", self.max_features, 16, 4096)?;
-        count("min_tracked_features", self.min_tracked_features, 8, 1000)?;
-        real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
-        real("mount_pitch_down_rad", self.mount_pitch_down_rad, -1.5, 1.5)?;
+        KEYS.count("max_features", self.max_features, 16, 4096)?;
+        KEYS.count("min_tracked_features", self.min_tracked_features, 8, 1000)?;
+        KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
+        KEYS.real("mount_pitch_down_rad", self.mount_pitch_down_rad, -1.5, 1.5)?;
         for v in self.camera_offset_body_m {
-            real("camera_offset_body_m", v, -5.0, 5.0)
+            KEYS.real("camera_offset_body_m", v, -5.0, 5.0)
                 .map_err(|rejected| rejected.noted("per axis"))?;
         }
-        real(
+        KEYS.real(
             "keyframe_min_parallax_deg",
             self.keyframe_min_parallax_deg,
             0.0,
             10.0,
         )?;
-        real(
+        KEYS.real(
             "keyframe_max_parallax_deg",
             self.keyframe_max_parallax_deg,
             self.keyframe_min_parallax_deg.max(0.1),
             45.0,
         )
         .map_err(|rejected| rejected.noted("from max(keyframe_min_parallax_deg, 0.1)"))?;
-        real(
+        KEYS.real(
             "keyframe_min_track_fraction",
             self.keyframe_min_track_fraction,
             0.0,
             1.0,
         )?;
-        count(
+        KEYS.count(
             "cloud_track_keyframes",
             self.cloud_track_keyframes as usize,
             1,
             MAX_CLOUD_TRACK_KEYFRAMES as usize,
         )?;
-        count("keyframe_min_tracks", self.keyframe_min_tracks, 0, 4096)?;
-        real("gravity_mps2", self.gravity_mps2, 0.01, 100.0)?;
-        real("altimeter_sigma_m", self.altimeter_sigma_m, 1e-3, 1000.0)?;
-        real("direction_sigma_rad", self.direction_sigma_rad, 1e-5, 1.0)?;
-        real("launch_speed_mps", self.launch_speed_mps, 0.0, 100.0)
+        KEYS.count("keyframe_min_tracks", self.keyframe_min_tracks, 0, 4096)?;
+        KEYS.real("gravity_mps2", self.gravity_mps2, 0.01, 100.0)?;
+        KEYS.real("altimeter_sigma_m", self.altimeter_sigma_m, 1e-3, 1000.0)?;
+        KEYS.real("direction_sigma_rad", self.direction_sigma_rad, 1e-5, 1.0)?;
+        KEYS.real("launch_speed_mps", self.launch_speed_mps, 0.0, 100.0)
             .map_err(|rejected| rejected.noted("0 disables"))?;
-        real("launch_elevation_rad", self.launch_elevation_rad, -1.6, 1.6)?;
-        real(
+        KEYS.real("launch_elevation_rad", self.launch_elevation_rad, -1.6, 1.6)?;
+        KEYS.real(
             "launch_velocity_sigma_mps",
             self.launch_velocity_sigma_mps,
             1e-3,
             100.0,
         )?;
-        real("max_speed_mps", self.max_speed_mps, 0.1, 1000.0)?;
-        real("pixel_sigma_px", self.pixel_sigma_px, 0.05, 10.0)?;
-        real(
+        KEYS.real("max_speed_mps", self.max_speed_mps, 0.1, 1000.0)?;
+        KEYS.real("pixel_sigma_px", self.pixel_sigma_px, 0.05, 10.0)?;
+        KEYS.real(
             "launch_angular_velocity_sigma_radps",
             self.launch_angular_velocity_sigma_radps,
             0.0,
             100.0,
         )
         .map_err(|rejected| rejected.noted("0: no prior"))?;
-        real(
+        KEYS.real(
             "keyframe_rotation_sigma_rad",
             self.keyframe_rotation_sigma_rad,
             1e-6,
             1.0,
         )?;
-        real(
+        KEYS.real(
             "max_angular_rate_radps",
             self.max_angular_rate_radps,
             0.01,
             100.0,
         )?;
-        real("touchdown_margin_m", self.touchdown_margin_m, 0.0, 100.0)?;
-        real(
+        KEYS.real("touchdown_margin_m", self.touchdown_margin_m, 0.0, 100.0)?;
+        KEYS.real(
             "touchdown_max_drop_m",
             self.touchdown_max_drop_m,
             0.0,
             1000.0,
         )?;
         for w in self.launch_angular_velocity_body_radps {
-            real("launch_angular_velocity_body_radps", w, -10.0, 10.0)
+            KEYS.real("launch_angular_velocity_body_radps", w, -10.0, 10.0)
                 .map_err(|rejected| rejected.noted("per axis"))?;
         }
-        real(
+        KEYS.real(
             "landing_slide_decay_per_s",
             self.landing_slide_decay_per_s,
             0.0,
@@ -299,7 +283,7 @@ mod tests {
             ..JumperVoConfig::default()
         };
         assert_eq!(
-            cfg.validate().unwrap_err().0.key,
+            cfg.validate().unwrap_err().key,
             "jumper_vo.altimeter_sigma_m"
         );
     }

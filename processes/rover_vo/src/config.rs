@@ -10,7 +10,7 @@
 //! assert!(err.contains("rover_vo.max_depth_m"));
 //! ```
 
-use hopnav_config::range::{Interval, OutOfRange, check_int};
+use hopnav_config::range::{OutOfRange, Table};
 use serde::{Deserialize, Serialize};
 
 /// Settings of [`crate::pipeline::RoverVo`].
@@ -93,80 +93,65 @@ impl Default for RoverVoConfig {
     }
 }
 
-/// A configuration value out of range: the error names `rover_vo.<key>`, the value and the
-/// allowed range.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{} must be in {}, got {}", .0.key, .0.range, .0.value)]
-pub struct ConfigError(pub OutOfRange);
+/// A configuration value out of range: it names `rover_vo.<key>`, the value and the allowed
+/// range.
+pub type ConfigError = OutOfRange;
 
-impl From<OutOfRange> for ConfigError {
-    fn from(rejected: OutOfRange) -> Self {
-        Self(rejected)
-    }
-}
-
-/// The table every key lives under.
-const SECTION: &str = "rover_vo";
-
-fn real(key: &str, value: f64, lo: f64, hi: f64) -> Result<(), OutOfRange> {
-    Interval::closed(lo, hi).check(SECTION, key, value)
-}
-
-fn count(key: &str, value: usize, lo: usize, hi: usize) -> Result<(), OutOfRange> {
-    check_int(SECTION, key, value as u64, lo as u64, hi as u64)
-}
+/// The `[rover_vo]` keys, for their range checks.
+const KEYS: Table = Table::new("rover_vo");
 
 impl RoverVoConfig {
     /// Checks every value; the error names `rover_vo.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        count("max_features", self.max_features, 16, 4000)?;
-        count(
+        KEYS.count("max_features", self.max_features, 16, 4000)?;
+        KEYS.count(
             "keyframe_min_tracks",
             self.keyframe_min_tracks,
             8,
             self.max_features,
         )
         .map_err(|rejected| rejected.noted("up to max_features"))?;
-        real(
+        KEYS.real(
             "keyframe_max_translation_m",
             self.keyframe_max_translation_m,
             0.05,
             20.0,
         )?;
-        real(
+        KEYS.real(
             "keyframe_max_rotation_rad",
             self.keyframe_max_rotation_rad,
             0.01,
             1.5,
         )?;
-        count("min_inliers", self.min_inliers, 4, 1000)?;
-        real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
-        real("max_disparity_px", self.max_disparity_px, 2.0, 256.0)?;
-        real(
+        KEYS.count("min_inliers", self.min_inliers, 4, 1000)?;
+        KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
+        KEYS.real("max_disparity_px", self.max_disparity_px, 2.0, 256.0)?;
+        KEYS.real(
             "min_disparity_px",
             self.min_disparity_px,
             0.1,
             self.max_disparity_px - 1.0,
         )
         .map_err(|rejected| rejected.noted("up to max_disparity_px - 1"))?;
-        count("stereo_patch_radius_px", self.stereo_patch_radius_px, 1, 7)?;
-        real("min_zncc", self.min_zncc, 0.0, 1.0)?;
-        real("left_right_max_px", self.left_right_max_px, 0.1, 5.0)?;
-        real("disparity_sigma_px", self.disparity_sigma_px, 0.01, 5.0)?;
-        real("max_depth_m", self.max_depth_m, 1.0, 1000.0)?;
-        real(
+        KEYS.count("stereo_patch_radius_px", self.stereo_patch_radius_px, 1, 7)?;
+        KEYS.real("min_zncc", self.min_zncc, 0.0, 1.0)?;
+        KEYS.real("left_right_max_px", self.left_right_max_px, 0.1, 5.0)?;
+        KEYS.real("disparity_sigma_px", self.disparity_sigma_px, 0.01, 5.0)?;
+        KEYS.real("max_depth_m", self.max_depth_m, 1.0, 1000.0)?;
+        KEYS.real(
             "reprojection_threshold_px",
             self.reprojection_threshold_px,
             0.1,
             20.0,
         )?;
-        real("imu_tilt_sigma_rad", self.imu_tilt_sigma_rad, 0.0, 1.0)?;
-        real("ground_radius_m", self.ground_radius_m, 0.1, 50.0)?;
-        real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0)?;
-        real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4)?;
+        KEYS.real("imu_tilt_sigma_rad", self.imu_tilt_sigma_rad, 0.0, 1.0)?;
+        KEYS.real("ground_radius_m", self.ground_radius_m, 0.1, 50.0)?;
+        KEYS.real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0)?;
+        KEYS.real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4)?;
         if let Some(xy) = self.start_xy_m {
             for v in xy {
-                real("start_xy_m", v, -1e5, 1e5).map_err(|rejected| rejected.noted("per axis"))?;
+                KEYS.real("start_xy_m", v, -1e5, 1e5)
+                    .map_err(|rejected| rejected.noted("per axis"))?;
             }
         }
         Ok(())
@@ -185,12 +170,12 @@ mod tests {
             ..RoverVoConfig::default()
         };
         let err = cfg.validate().unwrap_err();
-        assert_eq!(err.0.key, "rover_vo.min_zncc");
+        assert_eq!(err.key, "rover_vo.min_zncc");
         assert!(err.to_string().contains("[0, 1]"));
         let cfg = RoverVoConfig {
             start_xy_m: Some([f64::NAN, 0.0]),
             ..RoverVoConfig::default()
         };
-        assert_eq!(cfg.validate().unwrap_err().0.key, "rover_vo.start_xy_m");
+        assert_eq!(cfg.validate().unwrap_err().key, "rover_vo.start_xy_m");
     }
 }

@@ -46,9 +46,9 @@ pub fn rover_vo_section(config: &HopnavConfig) -> Result<RoverVoConfig, ConfigEr
     section
         .validate()
         .map_err(|error| ConfigError::OutOfRange {
-            key: error.0.key,
-            value: error.0.value,
-            allowed: error.0.range,
+            key: error.key,
+            value: error.value,
+            allowed: error.range,
         })?;
     Ok(section)
 }

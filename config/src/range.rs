@@ -18,6 +18,17 @@
 //! assert_eq!(dotted_key("terrain", "spacing_m"), "terrain.spacing_m");
 //! assert_eq!(dotted_key("", "seed"), "seed");
 //! ```
+//!
+//! A library whose keys all sit in one table, with closed ranges, checks them through a
+//! [`Table`] and may use [`OutOfRange`] as its error as it is:
+//!
+//! ```
+//! use hopnav_config::range::Table;
+//! const KEYS: Table = Table::new("camera");
+//! assert!(KEYS.real("fov_rad", 1.0, 0.1, 3.0).is_ok());
+//! let rejected = KEYS.count("width_px", 0, 16, 4096).unwrap_err();
+//! assert_eq!(rejected.to_string(), "camera.width_px must be in [16, 4096], got 0");
+//! ```
 
 use std::fmt;
 
@@ -116,6 +127,52 @@ pub struct OutOfRange {
     pub value: String,
     /// The allowed range in interval notation, e.g. `(0, 1]`.
     pub range: String,
+}
+
+impl OutOfRange {
+    /// Adds a note to the range, e.g. `per axis` or what a bound comes from:
+    /// `[0, 100] (0 disables)`.
+    pub fn noted(mut self, note: &str) -> Self {
+        self.range = format!("{} ({note})", self.range);
+        self
+    }
+}
+
+/// `key must be in range, got value`.
+impl fmt::Display for OutOfRange {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} must be in {}, got {}",
+            self.key, self.range, self.value
+        )
+    }
+}
+
+impl std::error::Error for OutOfRange {}
+
+/// The keys of one configuration table, checked against closed ranges; errors name
+/// `table.field`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Table {
+    name: &'static str,
+}
+
+impl Table {
+    /// The table called `name`, e.g. `jumper_vo`.
+    pub const fn new(name: &'static str) -> Self {
+        Self { name }
+    }
+
+    /// Checks a real value against `[lo, hi]` (it must also be finite).
+    pub fn real(&self, field: &str, v: f64, lo: f64, hi: f64) -> Result<(), OutOfRange> {
+        Interval::closed(lo, hi).check(self.name, field, v)
+    }
+
+    /// Checks a count against `[lo, hi]`.
+    pub fn count(&self, field: &str, v: usize, lo: usize, hi: usize) -> Result<(), OutOfRange> {
+        check_int(self.name, field, v as u64, lo as u64, hi as u64)
+    }
 }
 
 /// Checks an integer against the inclusive range `[lo, hi]`; the error names `prefix.field`.

@@ -21,6 +21,7 @@ pub mod fault;
 pub mod latency;
 pub mod messages;
 pub mod namespace;
+pub mod node_error;
 pub mod process_loop;
 pub mod stamp;
 pub mod topics;

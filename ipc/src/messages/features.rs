@@ -2,7 +2,7 @@
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::{Pose3, SampleStamp};
+use super::{Pose3, Robot, SampleStamp};
 
 /// User header of a feature cloud sample.
 #[repr(C)]
@@ -39,7 +39,48 @@ pub struct FeaturePoint {
     pub depth_sigma_m: f32,
 }
 
+impl CloudHeader {
+    /// The header of a keyframe cloud: `robot` saw `point_count` points from
+    /// `world_from_camera`, in the frame `frame` stamps (its index and simulated time; the
+    /// transport adds the sequence and the publish time).
+    pub fn keyframe(
+        robot: Robot,
+        frame: &SampleStamp,
+        world_from_camera: Pose3,
+        point_count: usize,
+        keyframe_index: u64,
+    ) -> Self {
+        Self {
+            stamp: SampleStamp {
+                frame_index: frame.frame_index,
+                sim_time_ns: frame.sim_time_ns,
+                ..SampleStamp::default()
+            },
+            world_from_camera,
+            point_count: point_count as u32,
+            robot: robot.code(),
+            keyframe_index,
+        }
+    }
+}
+
 impl FeaturePoint {
+    /// A point from a VO's double-precision estimate, narrowed to the wire's `f32`; an
+    /// unknown height (`None`) is sent as NaN.
+    pub fn from_estimate(
+        position_m: [f64; 3],
+        height_above_ground_m: Option<f64>,
+        track_id: u32,
+        depth_sigma_m: f64,
+    ) -> Self {
+        Self {
+            position_m: position_m.map(|coordinate| coordinate as f32),
+            height_above_ground_m: height_above_ground_m.map_or(f32::NAN, |h| h as f32),
+            track_id,
+            depth_sigma_m: depth_sigma_m as f32,
+        }
+    }
+
     /// True when the position and sigma are finite (height may be NaN = unknown).
     pub fn is_valid(&self) -> bool {
         self.position_m.iter().all(|value| value.is_finite())

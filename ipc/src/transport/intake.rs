@@ -6,7 +6,10 @@ use core::fmt::Debug;
 
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::port::listener::Listener;
+use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
+use iceoryx2::prelude::{IceoryxSend, ZeroCopySend};
 use iceoryx2::service::port_factory::event::PortFactory as EventService;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory as DataService;
 
 use super::open::port_error;
 use super::{OpenError, ReceiveError, RejectCounts};
@@ -24,12 +27,39 @@ pub(super) struct Intake {
     topic: String,
 }
 
+/// Opens a subscriber port on the topic's data service (buffering what the topic keeps) and
+/// its intake on the event service.
+pub(super) fn open_subscriber<Payload, Header>(
+    data: &DataService<IpcService, Payload, Header>,
+    events: &EventService<IpcService>,
+    spec: &TopicSpec,
+) -> Result<(RawSubscriber<IpcService, Payload, Header>, Intake), OpenError>
+where
+    Payload: Debug + IceoryxSend + ?Sized,
+    Header: Debug + ZeroCopySend,
+{
+    let port = data
+        .subscriber_builder()
+        .buffer_size(spec.subscriber_buffer.max(1))
+        .create()
+        .map_err(|error| port_error(spec, error))?;
+    Ok((port, Intake::open(events, spec)?))
+}
+
+/// Drains `receive` and returns the newest item it gave, if any.
+pub(super) fn newest<T>(
+    mut receive: impl FnMut() -> Result<Option<T>, ReceiveError>,
+) -> Result<Option<T>, ReceiveError> {
+    let mut latest = None;
+    while let Some(item) = receive()? {
+        latest = Some(item);
+    }
+    Ok(latest)
+}
+
 impl Intake {
     /// Creates the listener on the topic's event service.
-    pub(super) fn open(
-        events: &EventService<IpcService>,
-        spec: &TopicSpec,
-    ) -> Result<Self, OpenError> {
+    fn open(events: &EventService<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
         let listener = events
             .listener_builder()
             .create()
@@ -57,8 +87,25 @@ impl Intake {
         self.rejected.get()
     }
 
+    /// The first sample `receive` gives that `admit` turns into a `T` (it returns `None` for
+    /// a rejected sample, which is dropped); `None` when drained.
+    pub(super) fn next_admitted<S, T, E: Debug>(
+        &self,
+        mut receive: impl FnMut() -> Result<Option<S>, E>,
+        mut admit: impl FnMut(S) -> Option<T>,
+    ) -> Result<Option<T>, ReceiveError> {
+        loop {
+            let Some(sample) = receive().map_err(|error| self.transport_error(error))? else {
+                return Ok(None);
+            };
+            if let Some(admitted) = admit(sample) {
+                return Ok(Some(admitted));
+            }
+        }
+    }
+
     /// The error for a failed receive on this topic.
-    pub(super) fn transport_error(&self, error: impl Debug) -> ReceiveError {
+    fn transport_error(&self, error: impl Debug) -> ReceiveError {
         ReceiveError::Transport {
             topic: self.topic.clone(),
             reason: format!("{error:?}"),

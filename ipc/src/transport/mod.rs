@@ -9,6 +9,7 @@
 mod error;
 mod intake;
 mod open;
+mod outlet;
 mod publisher;
 mod slice_publisher;
 mod slice_subscriber;

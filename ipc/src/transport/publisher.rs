@@ -1,15 +1,14 @@
 //! Publisher of fixed-size messages.
 
 use iceoryx2::node::Node;
-use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher as RawPublisher;
-use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::ZeroCopySend;
 
 use super::open::{data_service, event_service, port_error};
+use super::outlet::Outlet;
 use super::{OpenError, SendError};
 use crate::IpcService;
-use crate::stamp::monotonic_now_ns;
+use crate::fault::PublishAction;
 use crate::topics::TopicSpec;
 use crate::validate::Message;
 
@@ -18,9 +17,7 @@ use crate::validate::Message;
 #[derive(Debug)]
 pub struct Publisher<M: Message + ZeroCopySend> {
     port: RawPublisher<IpcService, M, ()>,
-    notifier: Notifier<IpcService>,
-    topic: String,
-    next_sequence: u64,
+    outlet: Outlet,
 }
 
 impl<M: Message + ZeroCopySend> Publisher<M> {
@@ -32,47 +29,28 @@ impl<M: Message + ZeroCopySend> Publisher<M> {
             .publisher_builder()
             .create()
             .map_err(|error| port_error(spec, error))?;
-        let notifier = events
-            .notifier_builder()
-            .create()
-            .map_err(|error| port_error(spec, error))?;
         Ok(Self {
             port,
-            notifier,
-            topic: spec.name.to_string(),
-            next_sequence: 0,
+            outlet: Outlet::open(&events, spec)?,
         })
     }
 
     /// Fills a loaned sample with `fill` (starting from `M::default()`), stamps it, sends it and
     /// notifies. Returns the number of subscribers reached.
     pub fn send_with(&mut self, fill: impl FnOnce(&mut M)) -> Result<usize, SendError> {
-        let action = crate::fault::on_publish(&self.topic);
-        if action == crate::fault::PublishAction::Drop {
+        let action = self.outlet.fault_action();
+        if action == PublishAction::Drop {
             return Ok(0);
         }
-        let sample = self.port.loan_uninit().map_err(|error| SendError::Loan {
-            topic: self.topic.clone(),
-            reason: format!("{error:?}"),
-        })?;
+        let sample = self
+            .port
+            .loan_uninit()
+            .map_err(|error| self.outlet.loan_error(error))?;
         let mut sample = sample.write_payload(M::default());
         let message = sample.payload_mut();
         fill(message);
-        let stamp = message.stamp_mut();
-        stamp.publish_stamp_ns = monotonic_now_ns();
-        if action == crate::fault::PublishAction::Corrupt && self.next_sequence > 0 {
-            // Injected fault: a garbled header, which repeats the last sequence number.
-            stamp.sequence = self.next_sequence - 1;
-        } else {
-            stamp.sequence = self.next_sequence;
-            self.next_sequence += 1;
-        }
-        let reached = sample.send().map_err(|error| SendError::Deliver {
-            topic: self.topic.clone(),
-            reason: format!("{error:?}"),
-        })?;
-        self.notify()?;
-        Ok(reached)
+        self.outlet.stamp(message.stamp_mut(), action);
+        self.outlet.delivered(sample.send())
     }
 
     /// Sends a copy of `message` (stamped like [`Self::send_with`]).
@@ -83,26 +61,11 @@ impl<M: Message + ZeroCopySend> Publisher<M> {
     /// Connects subscribers that appeared since the last send and delivers the topic history
     /// to them (a restarted process recovers its last state this way).
     pub fn update_connections(&self) -> Result<(), SendError> {
-        self.port
-            .update_connections()
-            .map_err(|error| SendError::Deliver {
-                topic: self.topic.clone(),
-                reason: format!("update connections: {error:?}"),
-            })
+        self.outlet.update_connections(&self.port)
     }
 
     /// Sets the next sequence number, e.g. to continue after a restart from history.
     pub fn continue_sequence_after(&mut self, last_sequence: u64) {
-        self.next_sequence = last_sequence.saturating_add(1);
-    }
-
-    fn notify(&self) -> Result<(), SendError> {
-        self.notifier
-            .notify()
-            .map(|_| ())
-            .map_err(|error| SendError::Deliver {
-                topic: self.topic.clone(),
-                reason: format!("notify: {error:?}"),
-            })
+        self.outlet.continue_sequence_after(last_sequence);
     }
 }

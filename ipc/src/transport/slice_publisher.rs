@@ -3,15 +3,14 @@
 use core::mem::MaybeUninit;
 
 use iceoryx2::node::Node;
-use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher as RawPublisher;
-use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::{AllocationStrategy, ZeroCopySend};
 
 use super::open::{event_service, port_error, slice_data_service};
+use super::outlet::Outlet;
 use super::{OpenError, SendError};
 use crate::IpcService;
-use crate::stamp::monotonic_now_ns;
+use crate::fault::PublishAction;
 use crate::topics::TopicSpec;
 use crate::validate::SliceHeader;
 
@@ -30,12 +29,10 @@ where
     H::Element: ZeroCopySend,
 {
     port: RawPublisher<IpcService, [H::Element], H>,
-    notifier: Notifier<IpcService>,
-    topic: String,
+    outlet: Outlet,
     max_len: usize,
-    next_sequence: u64,
     /// The injected-fault decision for the sample being sent.
-    action: crate::fault::PublishAction,
+    action: PublishAction,
 }
 
 impl<H: SliceHeader + ZeroCopySend> SlicePublisher<H>
@@ -56,17 +53,11 @@ where
             .allocation_strategy(AllocationStrategy::Static)
             .create()
             .map_err(|error| port_error(spec, error))?;
-        let notifier = events
-            .notifier_builder()
-            .create()
-            .map_err(|error| port_error(spec, error))?;
         Ok(Self {
             port,
-            notifier,
-            topic: spec.name.to_string(),
+            outlet: Outlet::open(&events, spec)?,
             max_len: max_len.max(1),
-            next_sequence: 0,
-            action: crate::fault::PublishAction::Send,
+            action: PublishAction::Send,
         })
     }
 
@@ -105,7 +96,7 @@ where
         // so header and payload are never borrowed mutably at once.
         let mut header = H::default();
         fill(&mut header, sample.payload_mut()).map_err(|error| SendError::Fill {
-            topic: self.topic.clone(),
+            topic: self.outlet.topic().to_string(),
             reason: error.to_string(),
         })?;
         *sample.user_header_mut() = header;
@@ -120,62 +111,39 @@ where
     /// Connects subscribers that appeared since the last send and delivers the topic history
     /// to them (a restarted process recovers its last state this way).
     pub fn update_connections(&self) -> Result<(), SendError> {
-        self.port
-            .update_connections()
-            .map_err(|error| SendError::Deliver {
-                topic: self.topic.clone(),
-                reason: format!("update connections: {error:?}"),
-            })
+        self.outlet.update_connections(&self.port)
     }
 
     /// Sets the next sequence number, e.g. to continue after a restart from history.
     pub fn continue_sequence_after(&mut self, last_sequence: u64) {
-        self.next_sequence = last_sequence.saturating_add(1);
+        self.outlet.continue_sequence_after(last_sequence);
     }
 
     /// Draws the injected-fault decision for the next sample; true when it is to be dropped.
     fn dropped_by_fault(&mut self) -> bool {
-        self.action = crate::fault::on_publish(&self.topic);
-        self.action == crate::fault::PublishAction::Drop
+        self.action = self.outlet.fault_action();
+        self.action == PublishAction::Drop
     }
 
     fn loan(&self, len: usize) -> Result<UninitSlice<H>, SendError> {
         if len > self.max_len {
             return Err(SendError::SliceTooLong {
-                topic: self.topic.clone(),
+                topic: self.outlet.topic().to_string(),
                 requested: len,
                 max: self.max_len,
             });
         }
         self.port
             .loan_slice_uninit(len)
-            .map_err(|error| SendError::Loan {
-                topic: self.topic.clone(),
-                reason: format!("{error:?}"),
-            })
+            .map_err(|error| self.outlet.loan_error(error))
     }
 
     fn finish(
         &mut self,
         mut sample: iceoryx2::sample_mut::SampleMut<IpcService, [H::Element], H>,
     ) -> Result<usize, SendError> {
-        let stamp = sample.user_header_mut().stamp_mut();
-        stamp.publish_stamp_ns = monotonic_now_ns();
-        if self.action == crate::fault::PublishAction::Corrupt && self.next_sequence > 0 {
-            // Injected fault: a garbled header, which repeats the last sequence number.
-            stamp.sequence = self.next_sequence - 1;
-        } else {
-            stamp.sequence = self.next_sequence;
-            self.next_sequence += 1;
-        }
-        let reached = sample.send().map_err(|error| SendError::Deliver {
-            topic: self.topic.clone(),
-            reason: format!("{error:?}"),
-        })?;
-        self.notifier.notify().map_err(|error| SendError::Deliver {
-            topic: self.topic.clone(),
-            reason: format!("notify: {error:?}"),
-        })?;
-        Ok(reached)
+        self.outlet
+            .stamp(sample.user_header_mut().stamp_mut(), self.action);
+        self.outlet.delivered(sample.send())
     }
 }

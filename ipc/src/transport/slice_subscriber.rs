@@ -6,8 +6,8 @@ use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 use iceoryx2::sample::Sample;
 
-use super::intake::Intake;
-use super::open::{event_service, port_error, slice_data_service};
+use super::intake::{Intake, newest, open_subscriber};
+use super::open::{event_service, slice_data_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
 use crate::topics::TopicSpec;
@@ -56,15 +56,8 @@ where
     pub fn open(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
         let data = slice_data_service::<H::Element, H>(node, spec)?;
         let events = event_service(node, spec)?;
-        let port = data
-            .subscriber_builder()
-            .buffer_size(spec.subscriber_buffer.max(1))
-            .create()
-            .map_err(|error| port_error(spec, error))?;
-        Ok(Self {
-            port,
-            intake: Intake::open(&events, spec)?,
-        })
+        let (port, intake) = open_subscriber(&data, &events, spec)?;
+        Ok(Self { port, intake })
     }
 
     /// The event listener to attach to a WaitSet.
@@ -79,27 +72,15 @@ where
 
     /// The next valid sample, in place; `None` when drained.
     pub fn receive(&self) -> Result<Option<ValidSlice<H>>, ReceiveError> {
-        loop {
-            let Some(sample) = self
-                .port
-                .receive()
-                .map_err(|error| self.intake.transport_error(error))?
-            else {
-                return Ok(None);
-            };
-            if self.check(&sample).is_ok() {
-                return Ok(Some(ValidSlice { sample }));
-            }
-        }
+        self.intake.next_admitted(
+            || self.port.receive(),
+            |sample| self.check(&sample).ok().map(|()| ValidSlice { sample }),
+        )
     }
 
     /// Drains the buffer and returns the newest valid sample, if any arrived.
     pub fn receive_latest(&self) -> Result<Option<ValidSlice<H>>, ReceiveError> {
-        let mut latest = None;
-        while let Some(sample) = self.receive()? {
-            latest = Some(sample);
-        }
-        Ok(latest)
+        newest(|| self.receive())
     }
 
     /// What this subscriber has rejected so far.

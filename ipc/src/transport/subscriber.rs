@@ -6,8 +6,8 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::intake::Intake;
-use super::open::{data_service, event_service, port_error};
+use super::intake::{Intake, newest, open_subscriber};
+use super::open::{data_service, event_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
 use crate::topics::TopicSpec;
@@ -25,15 +25,8 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
     pub fn open(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
         let data = data_service::<M, ()>(node, spec)?;
         let events = event_service(node, spec)?;
-        let port = data
-            .subscriber_builder()
-            .buffer_size(spec.subscriber_buffer.max(1))
-            .create()
-            .map_err(|error| port_error(spec, error))?;
-        Ok(Self {
-            port,
-            intake: Intake::open(&events, spec)?,
-        })
+        let (port, intake) = open_subscriber(&data, &events, spec)?;
+        Ok(Self { port, intake })
     }
 
     /// The event listener to attach to a WaitSet.
@@ -48,29 +41,18 @@ impl<M: Message + ZeroCopySend> Subscriber<M> {
 
     /// The next valid sample, copied out (messages are small); `None` when drained.
     pub fn receive(&self) -> Result<Option<M>, ReceiveError> {
-        loop {
-            let Some(sample) = self
-                .port
-                .receive()
-                .map_err(|error| self.intake.transport_error(error))?
-            else {
-                return Ok(None);
-            };
-            let message = *sample.payload();
-            match self.check(sample.origin(), &message) {
-                Ok(()) => return Ok(Some(message)),
-                Err(_) => continue,
-            }
-        }
+        self.intake.next_admitted(
+            || self.port.receive(),
+            |sample| {
+                let message = *sample.payload();
+                self.check(sample.origin(), &message).ok().map(|()| message)
+            },
+        )
     }
 
     /// Drains the buffer and returns the newest valid sample, if any arrived.
     pub fn receive_latest(&self) -> Result<Option<M>, ReceiveError> {
-        let mut latest = None;
-        while let Some(message) = self.receive()? {
-            latest = Some(message);
-        }
-        Ok(latest)
+        newest(|| self.receive())
     }
 
     /// What this subscriber has rejected so far.

@@ -10,6 +10,7 @@
 //! assert!(err.contains("jumper_vo.keyframe_min_parallax_deg"));
 //! ```
 
+use hopnav_config::range::{OutOfRange, Table};
 use serde::{Deserialize, Serialize};
 
 /// How the metric scale of the monocular translation is obtained.
@@ -164,224 +165,101 @@ impl Default for JumperVoConfig {
     }
 }
 
-/// A configuration value out of range.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("jumper_vo.{key} must be in {allowed}, got {value}")]
-pub struct ConfigError {
-    /// Key under `jumper_vo`.
-    pub key: &'static str,
-    /// Allowed range, human readable.
-    pub allowed: &'static str,
-    /// Offending value.
-    pub value: String,
-}
+/// A configuration value out of range: it names `jumper_vo.<key>`, the value and the allowed
+/// range.
+pub type ConfigError = OutOfRange;
 
-fn check(
-    key: &'static str,
-    value: f64,
-    lo: f64,
-    hi: f64,
-    allowed: &'static str,
-) -> Result<(), ConfigError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(ConfigError {
-            key,
-            allowed,
-            value: value.to_string(),
-        })
-    }
-}
-
-fn check_count(
-    key: &'static str,
-    value: usize,
-    lo: usize,
-    hi: usize,
-    allowed: &'static str,
-) -> Result<(), ConfigError> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(ConfigError {
-            key,
-            allowed,
-            value: value.to_string(),
-        })
-    }
-}
+/// The `[jumper_vo]` keys, for their range checks.
+const KEYS: Table = Table::new("jumper_vo");
 
 impl JumperVoConfig {
     /// Checks every value; the error names `jumper_vo.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_count("max_features", self.max_features, 16, 4096, "[16, 4096]")?;
-        check_count(
-            "min_tracked_features",
-            self.min_tracked_features,
-            8,
-            1000,
-            "[8, 1000]",
-        )?;
-        check(
-            "min_inlier_ratio",
-            self.min_inlier_ratio,
-            0.0,
-            1.0,
-            "[0, 1]",
-        )?;
-        check(
-            "mount_pitch_down_rad",
-            self.mount_pitch_down_rad,
-            -1.5,
-            1.5,
-            "[-1.5, 1.5]",
-        )?;
+        KEYS.count("max_features", self.max_features, 16, 4096)?;
+        KEYS.count("min_tracked_features", self.min_tracked_features, 8, 1000)?;
+        KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
+        KEYS.real("mount_pitch_down_rad", self.mount_pitch_down_rad, -1.5, 1.5)?;
         for v in self.camera_offset_body_m {
-            check("camera_offset_body_m", v, -5.0, 5.0, "[-5, 5] per axis")?;
+            KEYS.real("camera_offset_body_m", v, -5.0, 5.0)
+                .map_err(|rejected| rejected.noted("per axis"))?;
         }
-        check(
+        KEYS.real(
             "keyframe_min_parallax_deg",
             self.keyframe_min_parallax_deg,
             0.0,
             10.0,
-            "[0, 10]",
         )?;
-        check(
+        KEYS.real(
             "keyframe_max_parallax_deg",
             self.keyframe_max_parallax_deg,
             self.keyframe_min_parallax_deg.max(0.1),
             45.0,
-            "[max(keyframe_min_parallax_deg, 0.1), 45]",
-        )?;
-        check(
+        )
+        .map_err(|rejected| rejected.noted("from max(keyframe_min_parallax_deg, 0.1)"))?;
+        KEYS.real(
             "keyframe_min_track_fraction",
             self.keyframe_min_track_fraction,
             0.0,
             1.0,
-            "[0, 1]",
         )?;
-        check_count(
+        KEYS.count(
             "cloud_track_keyframes",
             self.cloud_track_keyframes as usize,
             1,
             MAX_CLOUD_TRACK_KEYFRAMES as usize,
-            "[1, 32]",
         )?;
-        check_count(
-            "keyframe_min_tracks",
-            self.keyframe_min_tracks,
-            0,
-            4096,
-            "[0, 4096]",
-        )?;
-        check(
-            "gravity_mps2",
-            self.gravity_mps2,
-            0.01,
-            100.0,
-            "[0.01, 100]",
-        )?;
-        check(
-            "altimeter_sigma_m",
-            self.altimeter_sigma_m,
-            1e-3,
-            1000.0,
-            "[0.001, 1000]",
-        )?;
-        check(
-            "direction_sigma_rad",
-            self.direction_sigma_rad,
-            1e-5,
-            1.0,
-            "[1e-5, 1]",
-        )?;
-        check(
-            "launch_speed_mps",
-            self.launch_speed_mps,
-            0.0,
-            100.0,
-            "[0, 100] (0 disables)",
-        )?;
-        check(
-            "launch_elevation_rad",
-            self.launch_elevation_rad,
-            -1.6,
-            1.6,
-            "[-1.6, 1.6]",
-        )?;
-        check(
+        KEYS.count("keyframe_min_tracks", self.keyframe_min_tracks, 0, 4096)?;
+        KEYS.real("gravity_mps2", self.gravity_mps2, 0.01, 100.0)?;
+        KEYS.real("altimeter_sigma_m", self.altimeter_sigma_m, 1e-3, 1000.0)?;
+        KEYS.real("direction_sigma_rad", self.direction_sigma_rad, 1e-5, 1.0)?;
+        KEYS.real("launch_speed_mps", self.launch_speed_mps, 0.0, 100.0)
+            .map_err(|rejected| rejected.noted("0 disables"))?;
+        KEYS.real("launch_elevation_rad", self.launch_elevation_rad, -1.6, 1.6)?;
+        KEYS.real(
             "launch_velocity_sigma_mps",
             self.launch_velocity_sigma_mps,
             1e-3,
             100.0,
-            "[0.001, 100]",
         )?;
-        check(
-            "max_speed_mps",
-            self.max_speed_mps,
-            0.1,
-            1000.0,
-            "[0.1, 1000]",
-        )?;
-        check(
-            "pixel_sigma_px",
-            self.pixel_sigma_px,
-            0.05,
-            10.0,
-            "[0.05, 10]",
-        )?;
-        check(
+        KEYS.real("max_speed_mps", self.max_speed_mps, 0.1, 1000.0)?;
+        KEYS.real("pixel_sigma_px", self.pixel_sigma_px, 0.05, 10.0)?;
+        KEYS.real(
             "launch_angular_velocity_sigma_radps",
             self.launch_angular_velocity_sigma_radps,
             0.0,
             100.0,
-            "[0, 100] (0: no prior)",
-        )?;
-        check(
+        )
+        .map_err(|rejected| rejected.noted("0: no prior"))?;
+        KEYS.real(
             "keyframe_rotation_sigma_rad",
             self.keyframe_rotation_sigma_rad,
             1e-6,
             1.0,
-            "[1e-6, 1]",
         )?;
-        check(
+        KEYS.real(
             "max_angular_rate_radps",
             self.max_angular_rate_radps,
             0.01,
             100.0,
-            "[0.01, 100]",
         )?;
-        check(
-            "touchdown_margin_m",
-            self.touchdown_margin_m,
-            0.0,
-            100.0,
-            "[0, 100]",
-        )?;
-        check(
+        KEYS.real("touchdown_margin_m", self.touchdown_margin_m, 0.0, 100.0)?;
+        KEYS.real(
             "touchdown_max_drop_m",
             self.touchdown_max_drop_m,
             0.0,
             1000.0,
-            "[0, 1000]",
         )?;
         for w in self.launch_angular_velocity_body_radps {
-            check(
-                "launch_angular_velocity_body_radps",
-                w,
-                -10.0,
-                10.0,
-                "[-10, 10] per axis",
-            )?;
+            KEYS.real("launch_angular_velocity_body_radps", w, -10.0, 10.0)
+                .map_err(|rejected| rejected.noted("per axis"))?;
         }
-        check(
+        KEYS.real(
             "landing_slide_decay_per_s",
             self.landing_slide_decay_per_s,
             0.0,
             1000.0,
-            "[0, 1000] (0 holds the touchdown point)",
-        )?;
+        )
+        .map_err(|rejected| rejected.noted("0 holds the touchdown point"))?;
         Ok(())
     }
 }
@@ -404,6 +282,9 @@ mod tests {
             altimeter_sigma_m: f64::NAN,
             ..JumperVoConfig::default()
         };
-        assert_eq!(cfg.validate().unwrap_err().key, "altimeter_sigma_m");
+        assert_eq!(
+            cfg.validate().unwrap_err().key,
+            "jumper_vo.altimeter_sigma_m"
+        );
     }
 }

@@ -8,14 +8,9 @@
 //! assert_eq!(a.gaussian().to_bits(), b.gaussian().to_bits());
 //! ```
 
-/// SplitMix64 finaliser: a well-mixing 64-bit hash of one word.
-#[inline]
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
+// The seeding and the step are the world's generator's (hopnav_world::rng); what this one
+// adds is the cached second Box–Muller sample and a state that can be saved and restored.
+use hopnav_world::rng::{unit_f64, xoshiro_next, xoshiro_words};
 
 /// A xoshiro256** generator with a cached second Box–Muller sample.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,16 +22,10 @@ pub struct NoiseRng {
 impl NoiseRng {
     /// A generator for `seed` and an independent `stream` number (one per sensor).
     pub fn new(seed: u64, stream: u64) -> Self {
-        let mut x = mix64(seed ^ mix64(stream.wrapping_add(0x5851_F42D_4C95_7F2D)));
-        let mut s = [0u64; 4];
-        for word in &mut s {
-            x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            *word = mix64(x);
+        Self {
+            s: xoshiro_words(seed, stream),
+            spare: None,
         }
-        if s == [0; 4] {
-            s[0] = 1;
-        }
-        Self { s, spare: None }
     }
 
     /// The generator's state: its words and the cached Box–Muller sample.
@@ -53,20 +42,12 @@ impl NoiseRng {
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        let result = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
-        let t = self.s[1] << 17;
-        self.s[2] ^= self.s[0];
-        self.s[3] ^= self.s[1];
-        self.s[1] ^= self.s[2];
-        self.s[0] ^= self.s[3];
-        self.s[2] ^= t;
-        self.s[3] = self.s[3].rotate_left(45);
-        result
+        xoshiro_next(&mut self.s)
     }
 
     /// Uniform in `[0, 1)` with 53 random bits.
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        unit_f64(self.next_u64())
     }
 
     /// Standard normal sample (Box–Muller; the second value of each pair is cached).

@@ -11,19 +11,5 @@ mod source;
 pub use sink::ProbeSink;
 pub use source::ProbeSource;
 
-/// Why a probe process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum ProbeError {
-    /// The configuration could not be loaded.
-    #[error(transparent)]
-    Config(#[from] hopnav_config::ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+/// Why a probe process failed: only the plumbing every node shares.
+pub type ProbeError = hopnav_ipc::node_error::NodeError;

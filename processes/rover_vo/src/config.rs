@@ -10,6 +10,7 @@
 //! assert!(err.contains("rover_vo.max_depth_m"));
 //! ```
 
+use hopnav_config::range::{OutOfRange, Table};
 use serde::{Deserialize, Serialize};
 
 /// Settings of [`crate::pipeline::RoverVo`].
@@ -92,162 +93,66 @@ impl Default for RoverVoConfig {
     }
 }
 
-/// A configuration value out of range.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("rover_vo.{key} must be in {allowed}, got {value}")]
-pub struct ConfigError {
-    /// Key under `rover_vo`.
-    pub key: &'static str,
-    /// Allowed range, human readable.
-    pub allowed: &'static str,
-    /// Offending value.
-    pub value: String,
-}
+/// A configuration value out of range: it names `rover_vo.<key>`, the value and the allowed
+/// range.
+pub type ConfigError = OutOfRange;
 
-fn real(
-    key: &'static str,
-    value: f64,
-    lo: f64,
-    hi: f64,
-    allowed: &'static str,
-) -> Result<(), ConfigError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(ConfigError {
-            key,
-            allowed,
-            value: value.to_string(),
-        })
-    }
-}
-
-fn count(
-    key: &'static str,
-    value: usize,
-    lo: usize,
-    hi: usize,
-    allowed: &'static str,
-) -> Result<(), ConfigError> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(ConfigError {
-            key,
-            allowed,
-            value: value.to_string(),
-        })
-    }
-}
+/// The `[rover_vo]` keys, for their range checks.
+const KEYS: Table = Table::new("rover_vo");
 
 impl RoverVoConfig {
     /// Checks every value; the error names `rover_vo.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        count("max_features", self.max_features, 16, 4000, "[16, 4000]")?;
-        count(
+        KEYS.count("max_features", self.max_features, 16, 4000)?;
+        KEYS.count(
             "keyframe_min_tracks",
             self.keyframe_min_tracks,
             8,
             self.max_features,
-            "[8, max_features]",
-        )?;
-        real(
+        )
+        .map_err(|rejected| rejected.noted("up to max_features"))?;
+        KEYS.real(
             "keyframe_max_translation_m",
             self.keyframe_max_translation_m,
             0.05,
             20.0,
-            "[0.05, 20]",
         )?;
-        real(
+        KEYS.real(
             "keyframe_max_rotation_rad",
             self.keyframe_max_rotation_rad,
             0.01,
             1.5,
-            "[0.01, 1.5]",
         )?;
-        count("min_inliers", self.min_inliers, 4, 1000, "[4, 1000]")?;
-        real(
-            "min_inlier_ratio",
-            self.min_inlier_ratio,
-            0.0,
-            1.0,
-            "[0, 1]",
-        )?;
-        real(
-            "max_disparity_px",
-            self.max_disparity_px,
-            2.0,
-            256.0,
-            "[2, 256]",
-        )?;
-        real(
+        KEYS.count("min_inliers", self.min_inliers, 4, 1000)?;
+        KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
+        KEYS.real("max_disparity_px", self.max_disparity_px, 2.0, 256.0)?;
+        KEYS.real(
             "min_disparity_px",
             self.min_disparity_px,
             0.1,
             self.max_disparity_px - 1.0,
-            "[0.1, max_disparity_px - 1]",
-        )?;
-        count(
-            "stereo_patch_radius_px",
-            self.stereo_patch_radius_px,
-            1,
-            7,
-            "[1, 7]",
-        )?;
-        real("min_zncc", self.min_zncc, 0.0, 1.0, "[0, 1]")?;
-        real(
-            "left_right_max_px",
-            self.left_right_max_px,
-            0.1,
-            5.0,
-            "[0.1, 5]",
-        )?;
-        real(
-            "disparity_sigma_px",
-            self.disparity_sigma_px,
-            0.01,
-            5.0,
-            "[0.01, 5]",
-        )?;
-        real("max_depth_m", self.max_depth_m, 1.0, 1000.0, "[1, 1000]")?;
-        real(
+        )
+        .map_err(|rejected| rejected.noted("up to max_disparity_px - 1"))?;
+        KEYS.count("stereo_patch_radius_px", self.stereo_patch_radius_px, 1, 7)?;
+        KEYS.real("min_zncc", self.min_zncc, 0.0, 1.0)?;
+        KEYS.real("left_right_max_px", self.left_right_max_px, 0.1, 5.0)?;
+        KEYS.real("disparity_sigma_px", self.disparity_sigma_px, 0.01, 5.0)?;
+        KEYS.real("max_depth_m", self.max_depth_m, 1.0, 1000.0)?;
+        KEYS.real(
             "reprojection_threshold_px",
             self.reprojection_threshold_px,
             0.1,
             20.0,
-            "[0.1, 20]",
         )?;
-        real(
-            "imu_tilt_sigma_rad",
-            self.imu_tilt_sigma_rad,
-            0.0,
-            1.0,
-            "[0, 1]",
-        )?;
-        real(
-            "ground_radius_m",
-            self.ground_radius_m,
-            0.1,
-            50.0,
-            "[0.1, 50]",
-        )?;
-        real(
-            "ground_keep_fraction",
-            self.ground_keep_fraction,
-            0.2,
-            1.0,
-            "[0.2, 1]",
-        )?;
-        real(
-            "start_ground_z_m",
-            self.start_ground_z_m,
-            -1e4,
-            1e4,
-            "[-10000, 10000]",
-        )?;
-        if let Some([x, y]) = self.start_xy_m {
-            real("start_xy_m", x, -1e5, 1e5, "finite, |x|,|y| <= 100000")?;
-            real("start_xy_m", y, -1e5, 1e5, "finite, |x|,|y| <= 100000")?;
+        KEYS.real("imu_tilt_sigma_rad", self.imu_tilt_sigma_rad, 0.0, 1.0)?;
+        KEYS.real("ground_radius_m", self.ground_radius_m, 0.1, 50.0)?;
+        KEYS.real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0)?;
+        KEYS.real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4)?;
+        if let Some(xy) = self.start_xy_m {
+            for v in xy {
+                KEYS.real("start_xy_m", v, -1e5, 1e5)
+                    .map_err(|rejected| rejected.noted("per axis"))?;
+            }
         }
         Ok(())
     }
@@ -265,12 +170,12 @@ mod tests {
             ..RoverVoConfig::default()
         };
         let err = cfg.validate().unwrap_err();
-        assert_eq!(err.key, "min_zncc");
+        assert_eq!(err.key, "rover_vo.min_zncc");
         assert!(err.to_string().contains("[0, 1]"));
         let cfg = RoverVoConfig {
             start_xy_m: Some([f64::NAN, 0.0]),
             ..RoverVoConfig::default()
         };
-        assert_eq!(cfg.validate().unwrap_err().key, "start_xy_m");
+        assert_eq!(cfg.validate().unwrap_err().key, "rover_vo.start_xy_m");
     }
 }

@@ -11,22 +11,10 @@ mod process;
 
 pub use process::CameraProcess;
 
-/// Why the camera process failed.
+/// Why the camera process failed: the shared node plumbing, or the world could not be made.
+pub type CameraError = hopnav_ipc::node_error::NodeError<WorldUnavailable>;
+
+/// The world (or its render scene) could not be generated.
 #[derive(Debug, thiserror::Error)]
-pub enum CameraError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] hopnav_config::ConfigError),
-    /// The world could not be generated.
-    #[error("world: {0}")]
-    World(#[from] hopnav_world::WorldError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+#[error("world: {0}")]
+pub struct WorldUnavailable(#[from] pub hopnav_world::WorldError);

@@ -75,8 +75,8 @@ impl Scene {
     fn build(config_path: &std::path::Path) -> Result<Self, CameraError> {
         let config = hopnav_config::load_file(config_path)?;
         let section = CameraSection::from_config(&config)?;
-        let world = World::generate(&check_world_section(&config)?)?;
-        let scene = RenderScene::new(&world)?;
+        let world = World::generate(&check_world_section(&config)?).map_err(CameraError::own)?;
+        let scene = RenderScene::new(&world).map_err(CameraError::own)?;
         let map_config =
             |error| CameraError::Config(hopnav_camera::from_world_error(error, "camera"));
         let mut jumper_renderer = Renderer::with_prefix(

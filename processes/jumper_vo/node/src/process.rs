@@ -10,6 +10,7 @@ use hopnav_ipc::messages::{
     AltimeterSample, CloudHeader, FeaturePoint, FrameTick, HopLaunch, ImageHeader, Pose3,
     PoseEstimate, Robot,
 };
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber, Subscriber};
@@ -21,22 +22,8 @@ use hopnav_jumper_vo::config::JumperVoConfig;
 use hopnav_jumper_vo::output::FrameInput;
 use hopnav_jumper_vo::pipeline::JumperVo;
 
-/// Why the jumper VO process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum JumperVoProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+/// Why the jumper VO process failed: only the plumbing every node shares.
+pub type JumperVoProcessError = NodeError;
 
 /// Parses and validates `[jumper_vo]`; errors name `jumper_vo.<key>`.
 pub fn jumper_vo_section(config: &HopnavConfig) -> Result<JumperVoConfig, ConfigError> {
@@ -249,27 +236,22 @@ impl Process for JumperVoProcess {
             self.clouds.send_from_fn(
                 len,
                 |cloud_header| {
-                    cloud_header.stamp.frame_index = stamp.frame_index;
-                    cloud_header.stamp.sim_time_ns = stamp.sim_time_ns;
-                    cloud_header.world_from_camera = cloud_camera;
-                    cloud_header.point_count = len as u32;
-                    cloud_header.robot = Robot::Jumper.code();
-                    cloud_header.keyframe_index = keyframe_index;
+                    *cloud_header = CloudHeader::keyframe(
+                        Robot::Jumper,
+                        &stamp,
+                        cloud_camera,
+                        len,
+                        keyframe_index,
+                    );
                 },
                 |index| {
                     let point = &cloud[index];
-                    FeaturePoint {
-                        position_m: [
-                            point.position_m.x as f32,
-                            point.position_m.y as f32,
-                            point.position_m.z as f32,
-                        ],
-                        height_above_ground_m: point
-                            .height_above_ground_m
-                            .map_or(f32::NAN, |h| h as f32),
-                        track_id: index as u32,
-                        depth_sigma_m: point.depth_sigma_m as f32,
-                    }
+                    FeaturePoint::from_estimate(
+                        point.position_m.into(),
+                        point.height_above_ground_m,
+                        index as u32,
+                        point.depth_sigma_m,
+                    )
                 },
             )?;
         }

@@ -11,8 +11,9 @@
 
 use std::path::Path;
 
-use hopnav_config::{ConfigError, HopnavConfig};
+use hopnav_config::HopnavConfig;
 use hopnav_ipc::messages::{CellUpdate, CloudHeader, FeaturePoint, FrameTick, MapHeader, Robot};
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentity, take_prepared};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
@@ -27,25 +28,9 @@ use hopnav_mapper::snapshot_writer::SnapshotWriter;
 /// File name of the map snapshot, in the launch's run folder.
 pub const SNAPSHOT_FILE: &str = "mapper_snapshot.bin";
 
-/// Why the mapper process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum MapperProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-    /// The oracle prior map could not be made.
-    #[error(transparent)]
-    OraclePrior(#[from] OraclePriorError),
-}
+/// Why the mapper process failed: the shared node plumbing, or the oracle prior map could
+/// not be made.
+pub type MapperProcessError = NodeError<OraclePriorError>;
 
 /// Merges the clouds and publishes map updates once per frame.
 pub struct MapperProcess {
@@ -312,7 +297,7 @@ impl Process for MapperProcess {
         }
         // A restored map already holds the oracle's points.
         if section.oracle_prior_map && !restored {
-            let report = perfect_scout_report(&config)?;
+            let report = perfect_scout_report(&config).map_err(NodeError::Own)?;
             let accepted = map.insert_cloud(Robot::Rover, &report.points);
             eprintln!(
                 "mapper: oracle prior map (evaluation only): {accepted} points on the {} rocks \

@@ -8,4 +8,4 @@
 
 mod process;
 
-pub use process::{PhysicsProcess, PhysicsProcessError, physics_section};
+pub use process::{BuildError, PhysicsProcess, PhysicsProcessError, physics_section};

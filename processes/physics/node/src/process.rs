@@ -4,6 +4,7 @@
 
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{self as msg, FrameTick, Pose3, SampleStamp};
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Prepared, Process, ProcessContext, ProcessIdentity, take_prepared};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
@@ -13,27 +14,18 @@ use hopnav_physics::frame::{DriveCommand, FrameInputs, HopRequest};
 use hopnav_physics::wire::{self, body_state};
 use hopnav_physics::{PhysicsConfig, PhysicsError, PhysicsSim};
 
-/// Why the physics process failed.
+/// Why the physics process failed: the shared node plumbing, or building the simulation.
+pub type PhysicsProcessError = NodeError<BuildError>;
+
+/// Why the simulation could not be built.
 #[derive(Debug, thiserror::Error)]
-pub enum PhysicsProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
+pub enum BuildError {
     /// The world could not be generated.
     #[error("world: {0}")]
     World(#[from] hopnav_world::WorldError),
     /// The simulation could not be built.
     #[error(transparent)]
     Physics(#[from] PhysicsError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
 }
 
 /// Parses and validates `[physics]`: the frame period comes from `run.frame_rate_hz`, and a
@@ -223,9 +215,9 @@ impl PhysicsProcess {
 fn build_sim(config_path: &std::path::Path) -> Result<(PhysicsSim, f64), PhysicsProcessError> {
     let config = hopnav_config::load_file(config_path)?;
     let world_config: hopnav_world::WorldConfig = parse_section(&config, "world")?;
-    let world = World::generate(&world_config)?;
+    let world = World::generate(&world_config).map_err(NodeError::own)?;
     let physics = physics_section(&config)?;
-    let sim = PhysicsSim::new(&world, &physics, world_config.seed)?;
+    let sim = PhysicsSim::new(&world, &physics, world_config.seed).map_err(NodeError::own)?;
     Ok((sim, physics.altimeter.sigma_m))
 }
 

@@ -10,6 +10,7 @@ use hopnav_ipc::messages::{
     CellClass, CellUpdate, DriveCommand, DriveDirection, FrameTick, JumpRequest, MapHeader,
     MissionState, PathHeader, PathPoint, PoseEstimate, Robot,
 };
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber};
@@ -20,25 +21,9 @@ use hopnav_planner::mission::{
     RoverPose,
 };
 
-/// Why the planner process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum PlannerProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-    /// Navigation failed for a reason other than an unreachable goal.
-    #[error(transparent)]
-    Navigation(#[from] NavigationError),
-}
+/// Why the planner process failed: the shared node plumbing, or navigation failed for a
+/// reason other than an unreachable goal.
+pub type PlannerProcessError = NodeError<NavigationError>;
 
 /// What the planner needs from the config.
 #[derive(Debug, Clone, PartialEq)]
@@ -178,7 +163,8 @@ impl PlannerProcess {
             [x_m, y_m],
             self.section.goal_m,
             self.section.navigator.clone(),
-        )?;
+        )
+        .map_err(NodeError::Own)?;
         self.refused_changes += navigator.queue_changes(self.early_changes.drain(..)) as u64;
         self.navigator = Some(navigator);
         Ok(())
@@ -294,7 +280,11 @@ impl Process for PlannerProcess {
                     yaw_rad,
                 };
                 navigator.set_rover_tilt(tilt_rad(&pose));
-                Some(navigator.step(rover, self.last_jumper_xy_m, time_s)?)
+                Some(
+                    navigator
+                        .step(rover, self.last_jumper_xy_m, time_s)
+                        .map_err(NodeError::Own)?,
+                )
             }
             _ => None,
         };

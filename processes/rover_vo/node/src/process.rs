@@ -17,6 +17,7 @@ use hopnav_ipc::messages::{
     CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3, PoseEstimate,
     Robot,
 };
+use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, SlicePublisher, SliceSubscriber, Subscriber, ValidSlice};
@@ -27,22 +28,8 @@ use hopnav_rover_vo::config::RoverVoConfig;
 use hopnav_rover_vo::motion::{Intrinsics, Tilt};
 use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, start_pose};
 
-/// Why the rover VO process failed.
-#[derive(Debug, thiserror::Error)]
-pub enum RoverVoProcessError {
-    /// The configuration could not be loaded or is invalid.
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be sent.
-    #[error(transparent)]
-    Send(#[from] hopnav_ipc::transport::SendError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
-}
+/// Why the rover VO process failed: only the plumbing every node shares.
+pub type RoverVoProcessError = NodeError;
 
 /// Physics' default rover start, used when neither the config nor a scenario gives one.
 const PHYSICS_DEFAULT_START_XY_M: [f64; 2] = [-12.0, -1.5];
@@ -59,9 +46,9 @@ pub fn rover_vo_section(config: &HopnavConfig) -> Result<RoverVoConfig, ConfigEr
     section
         .validate()
         .map_err(|error| ConfigError::OutOfRange {
-            key: format!("rover_vo.{}", error.key),
+            key: error.key,
             value: error.value,
-            allowed: error.allowed.to_owned(),
+            allowed: error.range,
         })?;
     Ok(section)
 }
@@ -291,25 +278,22 @@ impl RoverVoProcess {
             self.clouds.send_from_fn(
                 len,
                 |cloud_header| {
-                    cloud_header.stamp.frame_index = stamp.frame_index;
-                    cloud_header.stamp.sim_time_ns = stamp.sim_time_ns;
-                    cloud_header.world_from_camera = world_from_camera;
-                    cloud_header.point_count = len as u32;
-                    cloud_header.robot = Robot::Rover.code();
-                    cloud_header.keyframe_index = keyframe_index;
+                    *cloud_header = CloudHeader::keyframe(
+                        Robot::Rover,
+                        &stamp,
+                        world_from_camera,
+                        len,
+                        keyframe_index,
+                    );
                 },
                 |index| {
                     let point = &cloud[index];
-                    FeaturePoint {
-                        position_m: [
-                            point.position_m.x as f32,
-                            point.position_m.y as f32,
-                            point.position_m.z as f32,
-                        ],
-                        height_above_ground_m: point.height_above_ground_m as f32,
-                        track_id: point.track_id,
-                        depth_sigma_m: point.depth_sigma_m as f32,
-                    }
+                    FeaturePoint::from_estimate(
+                        point.position_m.into(),
+                        Some(point.height_above_ground_m),
+                        point.track_id,
+                        point.depth_sigma_m,
+                    )
                 },
             )?;
         }

@@ -331,7 +331,12 @@ impl Rover {
         }
         let err = wrap_angle(dy.atan2(dx) - self.yaw_rad);
         if self.turning {
-            self.turning = err.abs() >= cfg.turn_in_place_exit_rad;
+            // A turn on the spot that a rock refuses is not insisted on once the heading is
+            // within the error that would start one: the rover drives on, steering, instead
+            // (insisting froze a rover whose turn swung a corner into a rock for 80 s).
+            let refused = self.blocked == Some(BlockReason::Rock);
+            self.turning = err.abs() >= cfg.turn_in_place_exit_rad
+                && !(refused && err.abs() <= cfg.turn_in_place_enter_rad);
         } else {
             self.turning = err.abs() > cfg.turn_in_place_enter_rad;
         }

@@ -147,6 +147,36 @@ fn a_blocked_rover_backs_away_rear_first_and_can_then_turn() {
     assert_eq!(last.rover_status.collision_count, 1);
 }
 
+/// A turn on the spot that swings a rear corner into a tall rock is refused. Told next to
+/// drive to a point almost straight ahead, where driving carries that corner away from the
+/// rock, the rover must drive: insisting on finishing the refused turn first froze it against
+/// the rock for the rest of a mission (compare seed 20, rover-only, 80 s).
+#[test]
+fn a_rover_whose_turn_a_rock_refuses_still_drives_ahead() {
+    // The rear-right corner of the footprint is at (-0.55, -0.4); the rock's edge 7 cm below.
+    let world = flat_world(32.0, 16.0, &[rock(-0.55, -0.82, 0.7, 0.33)]);
+    let mut sim = PhysicsSim::new(&world, &rover_cfg([0.0, 0.0]), 3).unwrap();
+    // Behind and to the left: a turn on the spot, counter-clockwise, into the rock.
+    let turned = run(&mut sim, 40, drive([-3.0, 1.0], 0.5)).pop().unwrap();
+    assert_eq!(turned.rover_status.blocked, Some(BlockReason::Rock));
+    let from = turned.rover.position_m;
+    // Almost straight ahead: 5° further counter-clockwise, below the error that starts a
+    // turn on the spot, above the one that ends it.
+    let heading_rad = yaw_of(turned.rover.orientation_xyzw) + 5f64.to_radians();
+    let ahead = [
+        from[0] + 3.0 * heading_rad.cos(),
+        from[1] + 3.0 * heading_rad.sin(),
+    ];
+    let last = run(&mut sim, 60, drive(ahead, 0.5)).pop().unwrap();
+    let moved_m = (last.rover.position_m[0] - from[0]).hypot(last.rover.position_m[1] - from[1]);
+    assert!(
+        moved_m > 1.0,
+        "moved {moved_m:.3} m ({:?})",
+        last.rover_status
+    );
+    assert_eq!(last.rover_status.collision_count, 1, "no new contact");
+}
+
 /// Backing away from a tall rock with a rear wheel rolling onto a small rock: the body pitches,
 /// and the footprint's lower front corner swings a little into the tall rock it touches.
 /// That must not wedge the rover.

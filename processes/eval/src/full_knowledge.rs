@@ -227,19 +227,20 @@ mod tests {
         MapGeometry::new(-10.0, -10.0, 0.5, 40, 40).unwrap()
     }
 
+    /// The full-knowledge path on the test grid, with the first mapper's 0.5 m kernel.
+    fn plan(
+        rocks: &[RockFootprint],
+        slopes: &[SlopeClass],
+        start_m: [f64; 2],
+        goal_m: [f64; 2],
+    ) -> Option<FullKnowledgePath> {
+        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
+        full_knowledge_path(rocks, 0.15, slopes, &geometry(), &kernel, start_m, goal_m)
+    }
+
     #[test]
     fn an_empty_field_is_crossed_in_a_straight_line() {
-        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
-        let path = full_knowledge_path(
-            &[],
-            0.15,
-            &[],
-            &geometry(),
-            &kernel,
-            [-8.0, 0.3],
-            [8.0, 1.9],
-        )
-        .unwrap();
+        let path = plan(&[], &[], [-8.0, 0.3], [8.0, 1.9]).unwrap();
         let straight_m = 16.0f64.hypot(1.6);
         assert!((path.length_m - straight_m).abs() < 1e-9, "{path:?}");
         assert_eq!(path.obstacle_cells, 0);
@@ -247,8 +248,6 @@ mod tests {
 
     #[test]
     fn ground_too_steep_is_driven_around_and_steep_ground_costs() {
-        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
-        let geometry = geometry();
         // A too-steep band across y from -6 to 6 at x = 0 (one cell wide): the way round is
         // past y = ±6. The same band merely steep is driven across.
         let band = |class: SlopeClass| -> Vec<SlopeClass> {
@@ -264,70 +263,32 @@ mod tests {
                 .collect()
         };
         let too_steep = band(SlopeClass::TooSteep);
-        let path = full_knowledge_path(
-            &[],
-            0.15,
-            &too_steep,
-            &geometry,
-            &kernel,
-            [-8.0, 0.0],
-            [8.0, 0.0],
-        )
-        .unwrap();
+        let path = plan(&[], &too_steep, [-8.0, 0.0], [8.0, 0.0]).unwrap();
         assert!(path.length_m > 2.0 * 8.0f64.hypot(6.0), "{path:?}");
         let steep = band(SlopeClass::Steep);
-        let path = full_knowledge_path(
-            &[],
-            0.15,
-            &steep,
-            &geometry,
-            &kernel,
-            [-8.0, 0.0],
-            [8.0, 0.0],
-        )
-        .unwrap();
+        let path = plan(&[], &steep, [-8.0, 0.0], [8.0, 0.0]).unwrap();
         assert!((path.length_m - 16.0).abs() < 1e-9, "{path:?}");
     }
 
     #[test]
     fn a_wall_of_tall_rocks_is_driven_around_and_low_rocks_are_ignored() {
-        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
         // A wall across y from -6 to 6 at x = 0; the way round is past y = ±6.
         let wall: Vec<RockFootprint> = (0..=24)
             .map(|i| RockFootprint::at(0.0, -6.0 + 0.5 * f64::from(i), 0.3, 0.4))
             .collect();
-        let path = full_knowledge_path(
-            &wall,
-            0.15,
-            &[],
-            &geometry(),
-            &kernel,
-            [-8.0, 0.0],
-            [8.0, 0.0],
-        )
-        .unwrap();
+        let path = plan(&wall, &[], [-8.0, 0.0], [8.0, 0.0]).unwrap();
         assert!(path.length_m > 2.0 * 8.0f64.hypot(6.0), "{path:?}");
         assert!(path.obstacle_cells > 25);
         let low: Vec<RockFootprint> = wall
             .iter()
             .map(|r| RockFootprint::at(r.center_m[0], r.center_m[1], 0.3, 0.1))
             .collect();
-        let flat = full_knowledge_path(
-            &low,
-            0.15,
-            &[],
-            &geometry(),
-            &kernel,
-            [-8.0, 0.0],
-            [8.0, 0.0],
-        )
-        .unwrap();
+        let flat = plan(&low, &[], [-8.0, 0.0], [8.0, 0.0]).unwrap();
         assert!((flat.length_m - 16.0).abs() < 1e-9, "{flat:?}");
     }
 
     #[test]
     fn a_gap_closed_only_by_lethal_margins_is_planned_through() {
-        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
         // A wall across the whole grid at x = 0 with a 1 m gap at y = 0: the rocks leave the
         // gap open, their lethal margins close it.
         let wall: Vec<RockFootprint> = (0..=40)
@@ -335,50 +296,21 @@ mod tests {
             .filter(|y_m: &f64| y_m.abs() > 0.9)
             .map(|y_m| RockFootprint::at(0.25, y_m, 0.2, 0.4))
             .collect();
-        let path = full_knowledge_path(
-            &wall,
-            0.15,
-            &[],
-            &geometry(),
-            &kernel,
-            [-8.0, 0.25],
-            [8.0, 0.25],
-        )
-        .unwrap();
+        let path = plan(&wall, &[], [-8.0, 0.25], [8.0, 0.25]).unwrap();
         assert!((path.length_m - 16.0).abs() < 1e-9, "{path:?}");
     }
 
     #[test]
     fn a_goal_walled_in_has_no_full_knowledge_path() {
-        let kernel = inflation_kernel(0.5, 1.0, 0.75, 2000);
         let ring: Vec<RockFootprint> = (0..64)
             .map(|i| {
                 let angle = f64::from(i) * std::f64::consts::TAU / 64.0;
                 RockFootprint::at(5.0 + 3.0 * angle.cos(), 3.0 * angle.sin(), 0.3, 0.5)
             })
             .collect();
+        assert_eq!(plan(&ring, &[], [-8.0, 0.0], [5.0, 0.0]), None);
         assert_eq!(
-            full_knowledge_path(
-                &ring,
-                0.15,
-                &[],
-                &geometry(),
-                &kernel,
-                [-8.0, 0.0],
-                [5.0, 0.0]
-            ),
-            None
-        );
-        assert_eq!(
-            full_knowledge_path(
-                &[],
-                0.15,
-                &[],
-                &geometry(),
-                &kernel,
-                [-80.0, 0.0],
-                [5.0, 0.0]
-            ),
+            plan(&[], &[], [-80.0, 0.0], [5.0, 0.0]),
             None,
             "A outside the grid"
         );

@@ -122,23 +122,20 @@ mod tests {
                 Some(rise * 0.25 * (0.6 * x as f32 + 0.8 * y as f32))
             }
         };
-        assert_eq!(
-            judge.class_at(&geometry, 10, 10, plane(0.2)),
-            SlopeClass::Level
-        );
-        assert_eq!(
-            judge.class_at(&geometry, 10, 10, plane(0.5)),
-            SlopeClass::Steep
-        );
-        assert_eq!(
-            judge.class_at(&geometry, 10, 10, plane(0.8)),
-            SlopeClass::TooSteep
-        );
-        // At the grid's edge and beside unseen ground, the one-sided difference still judges.
-        assert_eq!(
-            judge.class_at(&geometry, 0, 0, plane(0.8)),
-            SlopeClass::TooSteep
-        );
+        // At the grid's edge the one-sided difference still judges.
+        for (x, y, rise, class) in [
+            (10, 10, 0.2, SlopeClass::Level),
+            (10, 10, 0.5, SlopeClass::Steep),
+            (10, 10, 0.8, SlopeClass::TooSteep),
+            (0, 0, 0.8, SlopeClass::TooSteep),
+        ] {
+            assert_eq!(
+                judge.class_at(&geometry, x, y, plane(rise)),
+                class,
+                "{rise} at ({x}, {y})"
+            );
+        }
+        // Beside unseen ground too.
         let half_seen = |index: usize| {
             let (x, _) = geometry.coords(index);
             (x >= 10).then_some(0.8 * 0.25 * x as f32)

@@ -214,6 +214,13 @@ fn check_u64(key: &str, value: u64, lo: u64, hi: u64) -> Result<(), ConfigError>
 impl MapperConfig {
     /// Checks every value; the error names `mapper.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_grid()?;
+        self.validate_feature_rule()?;
+        self.validate_traversability()
+    }
+
+    /// The grid's cell size, origin and size.
+    fn validate_grid(&self) -> Result<(), ConfigError> {
         check_f64("cell_size_m", self.cell_size_m, 0.05, 10.0)?;
         if let Some(x) = self.origin_x_m {
             check_f64("origin_x_m", x, -1e6, 1e6)?;
@@ -227,6 +234,11 @@ impl MapperConfig {
         if let Some(h) = self.height_cells {
             check_u64("height_cells", u64::from(h), 1, MAX_CELLS)?;
         }
+        Ok(())
+    }
+
+    /// The features' heights and the first (`features`) rule's votes.
+    fn validate_feature_rule(&self) -> Result<(), ConfigError> {
         check_f64(
             "traversable_height_m",
             self.traversable_height_m,
@@ -289,6 +301,12 @@ impl MapperConfig {
             1,
             1_000_000,
         )?;
+        Ok(())
+    }
+
+    /// The ground window, the inflation and costs, and the `traversability` model's beliefs
+    /// and fitted rocks.
+    fn validate_traversability(&self) -> Result<(), ConfigError> {
         check_f64(
             "ground_window_m",
             self.ground_window_m,

@@ -118,6 +118,17 @@ struct Thresholds {
     rock_width_prior: f32,
 }
 
+/// A point's heights above its local ground, for [`FeatureMap::feed_traversability`].
+#[derive(Debug, Clone, Copy)]
+struct PointHeights {
+    /// As its cloud measured it (`None`: a monocular point of unknown height).
+    measured_m: Option<f32>,
+    /// What the map judges it by: the measured height, or its height above the fitted ground.
+    judged_m: f32,
+    /// One-sigma height uncertainty, metres.
+    vertical_sigma_m: f32,
+}
+
 /// The merged, bounded map of both robots' features.
 #[derive(Debug)]
 pub struct FeatureMap {
@@ -313,57 +324,18 @@ impl FeatureMap {
                 belief_height_m = Some(above_m as f32);
             }
         }
-        if let (Some(layer), Some(height_m)) = (self.beliefs.as_mut(), belief_height_m) {
-            // The rover's viewpoint tells which side of a rock it has not seen.
-            let camera_xy_m = camera_m
-                .filter(|_| robot == Robot::Rover)
-                .map(|[cx, cy, _]| [cx, cy]);
-            layer.add_point(
+        if let Some(judged_m) = belief_height_m {
+            self.feed_traversability(
+                robot,
+                camera_m,
+                point,
                 index,
-                PointSource {
-                    robot,
-                    cloud: self.cloud_sequence,
-                    camera_xy_m,
+                PointHeights {
+                    measured_m: height,
+                    judged_m,
+                    vertical_sigma_m,
                 },
-                [x, y],
-                height_m,
-                vertical_sigma_m,
             );
-            if let Some(domes) = self.domes.as_mut().filter(|_| robot == Robot::Rover) {
-                domes.add_point(
-                    index,
-                    RockPoint {
-                        xy_m: [x, y],
-                        height_m,
-                        sigma_m: layer.floored_sigma_m(vertical_sigma_m),
-                        ground_z_m: point.position_m[2] - height_m,
-                    },
-                );
-            }
-            // The rover's ground points give the ground's elevation (its slope); a jumper
-            // cloud's pose drift would tilt it.
-            if robot == Robot::Rover
-                && let Some(measured_m) = height
-                && measured_m < 0.5 * layer.climb_limit_m()
-            {
-                layer.add_ground(index, point.position_m[2] - measured_m, vertical_sigma_m);
-            }
-            // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
-            // pose drift, and a ray drawn off its place would clear a real rock.
-            if robot == Robot::Rover
-                && let Some(camera_m) = camera_m
-            {
-                let point_m = point.position_m.map(f64::from);
-                let ground_z_m = point_m[2] - f64::from(height_m);
-                layer.add_ray(
-                    &self.geometry,
-                    camera_m,
-                    point_m,
-                    ground_z_m,
-                    self.cloud_sequence,
-                    &mut self.touched,
-                );
-            }
         }
         if robot == Robot::Jumper
             && let Some(height) = height
@@ -373,6 +345,78 @@ impl FeatureMap {
         self.stats[index].add(point.position_m, height, robot.code(), high_above_m);
         self.touched.insert(index);
         self.counters.accepted += 1;
+    }
+
+    /// The `traversability` model's share of an accepted point (nothing under `features`):
+    /// the cell's belief; for the rover's points also the rock points to fit, the ground's
+    /// elevation and the free space its stereo ray crossed.
+    fn feed_traversability(
+        &mut self,
+        robot: Robot,
+        camera_m: Option<[f64; 3]>,
+        point: &FeaturePoint,
+        index: usize,
+        heights: PointHeights,
+    ) {
+        let PointHeights {
+            judged_m,
+            vertical_sigma_m,
+            ..
+        } = heights;
+        let [x, y, _] = point.position_m;
+        let Some(layer) = self.beliefs.as_mut() else {
+            return;
+        };
+        // The rover's viewpoint tells which side of a rock it has not seen.
+        let camera_xy_m = camera_m
+            .filter(|_| robot == Robot::Rover)
+            .map(|[cx, cy, _]| [cx, cy]);
+        layer.add_point(
+            index,
+            PointSource {
+                robot,
+                cloud: self.cloud_sequence,
+                camera_xy_m,
+            },
+            [x, y],
+            judged_m,
+            vertical_sigma_m,
+        );
+        if let Some(domes) = self.domes.as_mut().filter(|_| robot == Robot::Rover) {
+            domes.add_point(
+                index,
+                RockPoint {
+                    xy_m: [x, y],
+                    height_m: judged_m,
+                    sigma_m: layer.floored_sigma_m(vertical_sigma_m),
+                    ground_z_m: point.position_m[2] - judged_m,
+                },
+            );
+        }
+        // The rover's ground points give the ground's elevation (its slope); a jumper
+        // cloud's pose drift would tilt it.
+        if robot == Robot::Rover
+            && let Some(measured_m) = heights.measured_m
+            && measured_m < 0.5 * layer.climb_limit_m()
+        {
+            layer.add_ground(index, point.position_m[2] - measured_m, vertical_sigma_m);
+        }
+        // Only the rover's stereo rays clear cells: the jumper's clouds carry metres of
+        // pose drift, and a ray drawn off its place would clear a real rock.
+        if robot == Robot::Rover
+            && let Some(camera_m) = camera_m
+        {
+            let point_m = point.position_m.map(f64::from);
+            let ground_z_m = point_m[2] - f64::from(judged_m);
+            layer.add_ray(
+                &self.geometry,
+                camera_m,
+                point_m,
+                ground_z_m,
+                self.cloud_sequence,
+                &mut self.touched,
+            );
+        }
     }
 
     /// Reclassifies the cells the features inserted since the last update can affect (at most

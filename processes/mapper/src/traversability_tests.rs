@@ -509,10 +509,7 @@ fn the_ground_around_a_maybe_too_tall_rock_costs_as_much_as_the_rock() {
     // tall only maybe (within two sigmas of the fit), so costly but open. Wherever the rover's centre would put its body on the
     // rock whatever the heading (within the inscribed radius of its edge), the cost must be
     // that of driving onto the rock, or the planner skirts it through its inscribed ring.
-    let config = MapperConfig {
-        dome_base_per_height: 1.0,
-        ..config()
-    };
+    let uncertain_cost = config().uncertain_cost;
     let mut map = dome_map();
     let cloud = rover_cloud((0.5, 3.5), (-1.5, 1.5), &[([2.0, 0.0], 0.25, 0.19)]);
     for _ in 0..3 {
@@ -530,13 +527,13 @@ fn the_ground_around_a_maybe_too_tall_rock_costs_as_much_as_the_rock() {
     // 0.2 m and 0.3 m beyond its edge (the inscribed radius is 0.4 m).
     for (x_m, y_m) in [(2.0, 0.45), (2.0, -0.55), (2.45, 0.1)] {
         assert!(
-            extra_cost_at(x_m, y_m) >= config.uncertain_cost,
+            extra_cost_at(x_m, y_m) >= uncertain_cost,
             "({x_m}, {y_m}) costs {}",
             extra_cost_at(x_m, y_m)
         );
     }
     // Beyond the circumscribed radius only a fraction of it.
-    assert!(extra_cost_at(2.0, 1.25) < config.uncertain_cost / 2);
+    assert!(extra_cost_at(2.0, 1.25) < uncertain_cost / 2);
 }
 
 /// A rover stereo cloud of bare ground `z = profile(x)` on a 5 cm lattice over `[x0, x1] ×

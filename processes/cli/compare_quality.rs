@@ -68,8 +68,12 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
             .iter()
             .filter_map(|(_, evaluation)| evaluation.blocked_area?.missed_lethal_percent())
             .collect();
+        let mut uncertain: Vec<f64> = evaluations
+            .iter()
+            .filter_map(|(_, evaluation)| evaluation.blocked_area?.uncertain_lethal_percent())
+            .collect();
         lines.push(format!(
-            "{} {}: reached B {reached}/{}, {collisions} collisions ({:.2} per mission); executed / full-knowledge path {} over the seeds it reached; full-knowledge path {}; blocked-area ratio (map / rocks) {}; truly lethal cells left traversable {}",
+            "{} {}: reached B {reached}/{}, {collisions} collisions ({:.2} per mission); executed / full-knowledge path {} over the seeds it reached; full-knowledge path {}; blocked-area ratio (map / rocks) {}; truly lethal cells left traversable {}, held uncertain {}",
             set.label,
             mode.name(),
             rows.len(),
@@ -78,6 +82,7 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
             spread(&mut best_m, " m"),
             spread(&mut ratios, ""),
             spread(&mut missed, " %"),
+            spread(&mut uncertain, " %"),
         ));
     }
     lines

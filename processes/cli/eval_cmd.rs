@@ -27,9 +27,10 @@ pub enum EvalCommand {
     JumperClouds(crate::jumper_clouds_cmd::JumperCloudsArgs),
     /// Rover-only missions at k = 0.07, 0.10, 0.13, 0.16: over the ground the rover's camera
     /// looked at from within 5 m, the final map's ground lethal for the rover's centre against
-    /// the rocks' (blocked-area ratio), truly lethal cells left traversable (also over every
-    /// mapped cell within 5 m of the track) and false lethal cells, median and worst per k; a
-    /// map PNG per k.
+    /// the rocks' (blocked-area ratio), truly lethal cells mapped traversable (missed) or
+    /// uncertain (maybe too tall, at a cost), the open share (both; also over every mapped cell
+    /// within 5 m of the track) and false lethal cells, median and worst per k; a map PNG per k
+    /// with the map's classes and the true unclimbable rocks' outlines.
     Traversability(crate::eval_traversability_cmd::TraversabilityArgs),
 }
 

@@ -1,8 +1,9 @@
 //! `hopnav eval traversability`: rover-only missions at k = 0.07, 0.10, 0.13 and 0.16, and
 //! how much ground each final map shuts the rover's centre out of where its camera looked
 //! within 5 m against what the rocks really block (blocked-area ratio), how many truly lethal
-//! cells it left traversable, and how many it called lethal wrongly; the missed share is also
-//! given over every mapped cell within 5 m of the track; a map figure per k.
+//! cells it left traversable (missed) or held uncertain (maybe too tall, at a cost), and how
+//! many it called lethal wrongly; the share left open to the rover's centre (missed or
+//! uncertain) is also given over every mapped cell within 5 m of the track; a map figure per k.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -49,9 +50,15 @@ struct MissionRow {
     goal_reached: bool,
     collisions: u32,
     blocked_area_ratio: Option<f64>,
+    /// Truly lethal cells mapped traversable, % of the truly lethal.
     missed_lethal_percent: Option<f64>,
-    /// Over every mapped cell within 5 m of the track, whichever way the camera looked.
-    missed_lethal_percent_near_track: Option<f64>,
+    /// Truly lethal cells mapped uncertain (maybe too tall), %.
+    uncertain_lethal_percent: Option<f64>,
+    /// Truly lethal cells the rover's centre may enter (missed or uncertain), %.
+    open_lethal_percent: Option<f64>,
+    /// The open share over every mapped cell within 5 m of the track, whichever way the
+    /// camera looked.
+    open_lethal_percent_near_track: Option<f64>,
     false_lethal_cells: Option<usize>,
     judged_cells: Option<usize>,
 }
@@ -100,9 +107,10 @@ pub fn run(args: TraversabilityArgs) -> ExitCode {
                         copy_figure(&args, k, &outcome.run_dir);
                     }
                     eprintln!(
-                        "  blocked-area ratio {}, missed lethal {}",
+                        "  blocked-area ratio {}, truly lethal ground mapped traversable {}, uncertain {}",
                         fmt(row.blocked_area_ratio, ""),
-                        fmt(row.missed_lethal_percent, " %")
+                        fmt(row.missed_lethal_percent, " %"),
+                        fmt(row.uncertain_lethal_percent, " %")
                     );
                     let interrupted = outcome.interrupted;
                     rows.push(row);
@@ -131,7 +139,9 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
         collisions: mission.map_or(0, |mission| mission.collisions),
         blocked_area_ratio: blocked.and_then(|b| b.blocked_area_ratio),
         missed_lethal_percent: blocked.and_then(|b| b.missed_lethal_percent()),
-        missed_lethal_percent_near_track: near_track.and_then(|b| b.missed_lethal_percent()),
+        uncertain_lethal_percent: blocked.and_then(|b| b.uncertain_lethal_percent()),
+        open_lethal_percent: blocked.and_then(|b| b.open_lethal_percent()),
+        open_lethal_percent_near_track: near_track.and_then(|b| b.open_lethal_percent()),
         false_lethal_cells: blocked.map(|b| b.false_lethal_cells),
         judged_cells: blocked.map(|b| b.judged_cells),
     }
@@ -153,50 +163,50 @@ fn fmt(value: Option<f64>, unit: &str) -> String {
 /// Prints the table per k and writes eval_traversability.json.
 fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> ExitCode {
     println!(
-        "\n{:>5} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12} {:>22}",
+        "\nTruly lethal ground (the rover's body touches an unclimbable rock, or too steep) where the rover's camera looked within 5 m,\nby what the final map made of it: missed = mapped traversable, uncertain = mapped maybe too tall (a cost), open = both.\n"
+    );
+    println!(
+        "{:>5} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16}",
         "k",
         "missions",
         "reached",
         "collisions",
-        "blocked ratio med/worst",
-        "missed % med/worst",
+        "blocked ratio",
+        "missed %",
+        "uncertain %",
+        "open %",
         "false cells",
-        "near track: missed %"
+        "near track open %"
+    );
+    println!(
+        "{:>46} {:>16} {:>16} {:>16} {:>16}",
+        "(median / worst)", "", "", "", ""
     );
     for k in ABUNDANCES {
         let of_k: Vec<&MissionRow> = rows.iter().filter(|row| row.golombek_k == k).collect();
         if of_k.is_empty() {
             continue;
         }
-        let spread = |mut values: Vec<f64>| {
+        let spread = |figure: fn(&MissionRow) -> Option<f64>| {
+            let mut values: Vec<f64> = of_k.iter().filter_map(|row| figure(row)).collect();
             median_and_worst(&mut values).map_or("-".to_owned(), |(median, worst)| {
                 format!("{median:.2} / {worst:.2}")
             })
         };
         println!(
-            "{:>5.2} {:>9} {:>8} {:>10} {:>22} {:>22} {:>12} {:>22}",
+            "{:>5.2} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16}",
             k,
             of_k.len(),
             of_k.iter().filter(|row| row.goal_reached).count(),
             of_k.iter().map(|row| row.collisions).sum::<u32>(),
-            spread(
-                of_k.iter()
-                    .filter_map(|row| row.blocked_area_ratio)
-                    .collect()
-            ),
-            spread(
-                of_k.iter()
-                    .filter_map(|row| row.missed_lethal_percent)
-                    .collect()
-            ),
+            spread(|row| row.blocked_area_ratio),
+            spread(|row| row.missed_lethal_percent),
+            spread(|row| row.uncertain_lethal_percent),
+            spread(|row| row.open_lethal_percent),
             of_k.iter()
                 .filter_map(|row| row.false_lethal_cells)
                 .sum::<usize>(),
-            spread(
-                of_k.iter()
-                    .filter_map(|row| row.missed_lethal_percent_near_track)
-                    .collect()
-            ),
+            spread(|row| row.open_lethal_percent_near_track),
         );
     }
     let path = args.out.join("eval_traversability.json");

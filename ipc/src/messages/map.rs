@@ -18,6 +18,11 @@ coded_enum! {
         /// So close to an obstacle that the rover's body would touch it: its centre must not
         /// enter (the planner treats the cell as an obstacle).
         Lethal = 4,
+        /// Maybe too tall to climb (its height straddles the climb limit within its
+        /// uncertainty), or so close to such a rock that the rover's body would touch it
+        /// whatever its heading: traversable at extra cost until the rover's closer look
+        /// settles it.
+        Uncertain = 5,
     }
 }
 

@@ -63,6 +63,7 @@ fn mapped_cells(map: &RecordedMap) -> Vec<MappedCell> {
                 CellClass::Free => MappedClass::Free,
                 CellClass::Obstacle => MappedClass::Obstacle,
                 CellClass::Inflated | CellClass::Lethal => MappedClass::Inflated,
+                CellClass::Uncertain => MappedClass::Uncertain,
             };
             let observer = match (
                 cell.observed_by & rover_bit != 0,

@@ -125,7 +125,7 @@ impl MissionEvaluation {
         if let Some(blocked) = &self.blocked_area {
             writeln!(
                 out,
-                "ground lethal for the rover's centre where its camera looked within 5 m: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {}, false lethal cells: {}; unclimbable rocks there: {} lethal, {} only costly, {} seen but free, {} not seen",
+                "ground lethal for the rover's centre where its camera looked within 5 m: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {} (held uncertain: {}), false lethal cells: {}; unclimbable rocks there: {} lethal, {} only costly, {} seen but free, {} not seen",
                 blocked.mapped_lethal_m2,
                 blocked.true_lethal_m2,
                 blocked
@@ -133,6 +133,7 @@ impl MissionEvaluation {
                     .map_or("-".to_owned(), |ratio| format!("{ratio:.2}")),
                 blocked.missed_lethal_cells,
                 blocked.true_lethal_cells,
+                blocked.uncertain_lethal_cells,
                 blocked.false_lethal_cells,
                 blocked.rocks_by_outcome[0],
                 blocked.rocks_by_outcome[1],
@@ -342,6 +343,7 @@ fn judge_blocked_area(
                 map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
             ],
             lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
+            uncertain: cell.class == CellClass::Uncertain,
             costly: cell.extra_cost > 0,
         })
         .collect();
@@ -427,9 +429,11 @@ fn built_map_path(truth: &MissionTruth, record: &MissionRecord) -> Option<FullKn
         *slot = match cell.class {
             CellClass::Obstacle if cell.observed_by & rover_bit != 0 => KnownCell::Obstacle,
             CellClass::Obstacle | CellClass::Lethal => KnownCell::Doubtful,
-            CellClass::Unknown | CellClass::Free | CellClass::Inflated => KnownCell::Free {
-                extra_cost: cell.extra_cost,
-            },
+            CellClass::Unknown | CellClass::Free | CellClass::Inflated | CellClass::Uncertain => {
+                KnownCell::Free {
+                    extra_cost: cell.extra_cost,
+                }
+            }
         };
     }
     plan_on_known_map(&known, &geometry, truth.start_m?, truth.goal_m?)

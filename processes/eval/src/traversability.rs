@@ -9,7 +9,8 @@
 //! whatever its heading); it is **mapped lethal** when the map makes it an obstacle or a
 //! lethal margin. The blocked-area ratio is mapped over truly lethal area (1 is perfect,
 //! the first mapper's rules gave 2–4); **missed** cells are truly lethal and mapped
-//! traversable, **false** ones mapped lethal and truly not.
+//! traversable, **uncertain** ones truly lethal and mapped as maybe too tall (a finite cost
+//! the rover's closer look is meant to settle), **false** ones mapped lethal and truly not.
 //!
 //! ```
 //! use hopnav_eval::traversability::{MapCell, Reach, RockEllipse, blocked_area};
@@ -19,7 +20,8 @@
 //!     .flat_map(|y| (-8..8).map(move |x| (x, y)))
 //!     .map(|(x, y)| {
 //!         let centre_m = [0.125 + 0.25 * x as f64, 0.125 + 0.25 * y as f64];
-//!         MapCell { centre_m, lethal: centre_m[0].hypot(centre_m[1]) < 0.7, costly: false }
+//!         let lethal = centre_m[0].hypot(centre_m[1]) < 0.7;
+//!         MapCell { centre_m, lethal, uncertain: false, costly: false }
 //!     })
 //!     .collect();
 //! let track = Reach::NearTrack(&[[0.0, -1.5], [0.0, 1.5]]);
@@ -134,6 +136,9 @@ pub struct MapCell {
     pub centre_m: [f64; 2],
     /// The map shuts the rover's centre out of it (an obstacle or a lethal margin).
     pub lethal: bool,
+    /// The map holds it maybe too tall, or within the body's reach of such a rock whatever
+    /// the heading (its class is uncertain, not traversable).
+    pub uncertain: bool,
     /// The map charges an extra cost to enter it (inflation, or maybe too tall).
     pub costly: bool,
 }
@@ -149,8 +154,11 @@ pub struct BlockedArea {
     pub true_lethal_m2: f64,
     /// `mapped_lethal_m2 / true_lethal_m2` (`None` when nothing there is truly lethal).
     pub blocked_area_ratio: Option<f64>,
-    /// Truly lethal cells the map left traversable.
+    /// Truly lethal cells the map left traversable (neither lethal nor uncertain).
     pub missed_lethal_cells: usize,
+    /// Truly lethal cells the map holds uncertain (maybe too tall, at a finite cost).
+    #[serde(default)]
+    pub uncertain_lethal_cells: usize,
     /// Truly lethal cells judged.
     pub true_lethal_cells: usize,
     /// Cells mapped lethal that are not truly lethal.
@@ -164,8 +172,23 @@ pub struct BlockedArea {
 impl BlockedArea {
     /// Missed lethal cells in % of the truly lethal ones (`None` without any).
     pub fn missed_lethal_percent(&self) -> Option<f64> {
-        (self.true_lethal_cells > 0)
-            .then(|| 100.0 * self.missed_lethal_cells as f64 / self.true_lethal_cells as f64)
+        self.percent_of_true_lethal(self.missed_lethal_cells)
+    }
+
+    /// Truly lethal cells held uncertain, in % of the truly lethal ones.
+    pub fn uncertain_lethal_percent(&self) -> Option<f64> {
+        self.percent_of_true_lethal(self.uncertain_lethal_cells)
+    }
+
+    /// Truly lethal cells the rover's centre may enter (missed or uncertain), in % of the
+    /// truly lethal ones: the figure reported as "missed" before the map had an uncertain
+    /// class.
+    pub fn open_lethal_percent(&self) -> Option<f64> {
+        self.percent_of_true_lethal(self.missed_lethal_cells + self.uncertain_lethal_cells)
+    }
+
+    fn percent_of_true_lethal(&self, cells: usize) -> Option<f64> {
+        (self.true_lethal_cells > 0).then(|| 100.0 * cells as f64 / self.true_lethal_cells as f64)
     }
 }
 
@@ -204,6 +227,7 @@ pub fn blocked_area(
             result.true_lethal_cells += 1;
         }
         match (cell.lethal, truly_lethal) {
+            (false, true) if cell.uncertain => result.uncertain_lethal_cells += 1,
             (false, true) => result.missed_lethal_cells += 1,
             (true, false) => result.false_lethal_cells += 1,
             _ => {}
@@ -261,6 +285,7 @@ mod tests {
                 MapCell {
                     centre_m,
                     lethal: lethal(centre_m),
+                    uncertain: false,
                     costly: false,
                 }
             })
@@ -300,6 +325,36 @@ mod tests {
         assert_eq!(result.missed_lethal_cells, result.true_lethal_cells);
         assert_eq!(result.missed_lethal_percent(), Some(100.0));
         assert_eq!(result.blocked_area_ratio, Some(0.0));
+    }
+
+    #[test]
+    fn a_rock_held_uncertain_is_counted_apart_from_the_missed_ones() {
+        // The right half of a tall rock's lethal disc is mapped maybe too tall, the left half
+        // traversable.
+        let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
+        let mut cells = grid(|_| false);
+        for cell in &mut cells {
+            cell.uncertain =
+                cell.centre_m[0] > 0.0 && cell.centre_m[0].hypot(cell.centre_m[1]) < 1.0;
+            cell.costly = cell.uncertain;
+        }
+        let result = judged_near_track(&cells, &rocks, [0.0, 0.0]);
+        assert!(result.uncertain_lethal_cells > 0);
+        assert_eq!(
+            result.missed_lethal_cells + result.uncertain_lethal_cells,
+            result.true_lethal_cells
+        );
+        assert_eq!(
+            result.missed_lethal_cells, result.uncertain_lethal_cells,
+            "the disc is symmetric"
+        );
+        assert_eq!(result.open_lethal_percent(), Some(100.0));
+        assert_eq!(result.missed_lethal_percent(), Some(50.0));
+        assert_eq!(
+            result.blocked_area_ratio,
+            Some(0.0),
+            "uncertain is not lethal"
+        );
     }
 
     #[test]

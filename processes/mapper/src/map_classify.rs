@@ -248,24 +248,23 @@ impl FeatureMap {
     /// (the kernel measures from whole cells, which a rock's base covers only in part):
     /// lethal rocks at full cost, uncertain ones as [`Self::uncertain_footprint_cost`] says
     /// (`None` without fitted rocks).
-    pub(super) fn cost_from_fitted_rocks(&self, index: usize) -> Option<(u32, bool)> {
+    pub(super) fn cost_from_fitted_rocks(&self, index: usize) -> Option<Reach> {
         let (domes, layer, costs) = (
             self.domes.as_ref()?,
             self.beliefs.as_ref()?,
             self.footprint_costs.as_ref()?,
         );
-        let mut worst: Option<(u32, bool)> = None;
+        let mut worst: Option<Reach> = None;
         domes.near(&self.geometry, index, costs.radius_m, |dome, gap_m| {
-            let cost = match dome.judged_by(layer) {
-                BeliefClass::Lethal => costs.at(gap_m.max(0.0)),
+            let reach = match dome.judged_by(layer) {
+                BeliefClass::Lethal => costs.at(gap_m.max(0.0)).map(Reach::from_lethal),
                 BeliefClass::Uncertain => costs
                     .at(gap_m.max(0.0))
-                    .map(|share| (self.uncertain_footprint_cost(share), false)),
+                    .map(|share| self.reach_of_uncertain(share)),
                 _ => None,
             };
-            if let Some((cost, lethal)) = cost {
-                let (best_cost, best_lethal) = worst.unwrap_or((0, false));
-                worst = Some((best_cost.max(cost), best_lethal | lethal));
+            if let Some(reach) = reach {
+                worst = Some(worst.unwrap_or_default().max(reach));
             }
         });
         worst
@@ -281,6 +280,16 @@ impl FeatureMap {
             self.thresholds.uncertain_cost.max(cost / 2)
         } else {
             cost / 2
+        }
+    }
+
+    /// What a maybe-too-tall rock does to a cell where a surely-too-tall one would cost
+    /// `share`: its cost, and whether the body would touch it whatever the heading.
+    fn reach_of_uncertain(&self, share: (u32, bool)) -> Reach {
+        Reach {
+            cost: self.uncertain_footprint_cost(share),
+            lethal: false,
+            uncertain: share.1,
         }
     }
 
@@ -307,8 +316,10 @@ impl FeatureMap {
             };
         }
         let (x, y) = self.geometry.coords(index);
-        let mut extra_cost = 0;
-        let mut lethal = false;
+        let mut reach = Reach {
+            uncertain: base.class == BaseClass::Uncertain,
+            ..Reach::default()
+        };
         for entry in &self.kernel {
             let (nx, ny) = (
                 x as i64 + i64::from(entry.dx),
@@ -327,11 +338,10 @@ impl FeatureMap {
                 // rock's edge (below), not from the whole cell.
                 BaseClass::Obstacle if self.under_fitted_rock_only(neighbour) => {}
                 BaseClass::Obstacle => {
-                    let (cost, is_lethal) = self
+                    let share = self
                         .cost_from_extent(index, neighbour)
                         .unwrap_or((entry.cost, entry.lethal));
-                    extra_cost = extra_cost.max(cost);
-                    lethal |= is_lethal;
+                    reach = reach.max(Reach::from_lethal(share));
                 }
                 // Maybe too tall: the rover's body is kept off it at a finite cost, never
                 // forbidden (the closer look settles it).
@@ -339,37 +349,68 @@ impl FeatureMap {
                     let share = self
                         .cost_from_extent(index, neighbour)
                         .unwrap_or((entry.cost, entry.lethal));
-                    extra_cost = extra_cost.max(self.uncertain_footprint_cost(share));
+                    reach = reach.max(self.reach_of_uncertain(share));
                 }
                 _ => {}
             }
         }
-        if let Some((cost, is_lethal)) = self.cost_from_fitted_rocks(index) {
-            extra_cost = extra_cost.max(cost);
-            lethal |= is_lethal;
+        if let Some(fitted) = self.cost_from_fitted_rocks(index) {
+            reach = reach.max(fitted);
         }
         if base.class == BaseClass::Uncertain {
-            extra_cost = extra_cost.max(self.thresholds.uncertain_cost);
+            reach.cost = reach.cost.max(self.thresholds.uncertain_cost);
         }
         match self.slope_class(x, y) {
-            SlopeClass::TooSteep => lethal = true,
+            SlopeClass::TooSteep => reach.lethal = true,
             SlopeClass::Steep => {
                 let band_cost = self.footprint_costs.as_ref().map_or(0, |c| c.band_cost);
-                extra_cost = extra_cost.max(band_cost);
+                reach.cost = reach.cost.max(band_cost);
             }
             SlopeClass::Level => {}
         }
-        let class = match (extra_cost > 0, base.class) {
-            _ if lethal => CellClass::Lethal,
+        let class = match (reach.cost > 0, base.class) {
+            _ if reach.lethal => CellClass::Lethal,
+            _ if reach.uncertain => CellClass::Uncertain,
             (true, _) => CellClass::Inflated,
             (false, BaseClass::Free | BaseClass::Uncertain) => CellClass::Free,
             (false, _) => CellClass::Unknown,
         };
         CellState {
             class,
-            extra_cost,
+            extra_cost: reach.cost,
             observed_by,
             support: base.support,
+        }
+    }
+}
+
+/// What the rocks near a cell do to the rover's centre there.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) struct Reach {
+    /// Extra cost of entering the cell, planner units.
+    cost: u32,
+    /// A rock too tall to climb touches the body whatever its heading.
+    lethal: bool,
+    /// A rock maybe too tall does (or the cell is that rock).
+    uncertain: bool,
+}
+
+impl Reach {
+    /// A surely-too-tall rock's `(cost, lethal)` share.
+    fn from_lethal((cost, lethal): (u32, bool)) -> Self {
+        Self {
+            cost,
+            lethal,
+            uncertain: false,
+        }
+    }
+
+    /// The worse of both on each count.
+    fn max(self, other: Self) -> Self {
+        Self {
+            cost: self.cost.max(other.cost),
+            lethal: self.lethal | other.lethal,
+            uncertain: self.uncertain | other.uncertain,
         }
     }
 }

@@ -519,21 +519,27 @@ fn the_ground_around_a_maybe_too_tall_rock_costs_as_much_as_the_rock() {
             map.pending_cells() > 0
         } {}
     }
-    let extra_cost_at = |x_m: f64, y_m: f64| {
+    let state_at = |x_m: f64, y_m: f64| {
         let (x, y) = map.geometry().cell_of(x_m, y_m).expect("inside");
-        map.cell_state(x, y).expect("cell").extra_cost
+        map.cell_state(x, y).expect("cell")
     };
     assert!(!blocks(&map, 2.0, 0.1), "a rock under the limit was shut");
-    // 0.2 m and 0.3 m beyond its edge (the inscribed radius is 0.4 m).
-    for (x_m, y_m) in [(2.0, 0.45), (2.0, -0.55), (2.45, 0.1)] {
+    // On the rock, and 0.2 m and 0.3 m beyond its edge (the inscribed radius is 0.4 m): the
+    // map says "maybe too tall" there, not "traversable".
+    for (x_m, y_m) in [(2.0, 0.1), (2.0, 0.45), (2.0, -0.55), (2.45, 0.1)] {
+        let state = state_at(x_m, y_m);
         assert!(
-            extra_cost_at(x_m, y_m) >= uncertain_cost,
-            "({x_m}, {y_m}) costs {}",
-            extra_cost_at(x_m, y_m)
+            state.extra_cost >= uncertain_cost && state.class == CellClass::Uncertain,
+            "({x_m}, {y_m}): {state:?}"
         );
     }
-    // Beyond the circumscribed radius only a fraction of it.
-    assert!(extra_cost_at(2.0, 1.25) < uncertain_cost / 2);
+    // Beyond the circumscribed radius only a fraction of it, and traversable.
+    let beyond = state_at(2.0, 1.25);
+    assert!(beyond.extra_cost < uncertain_cost / 2);
+    assert!(matches!(
+        beyond.class,
+        CellClass::Inflated | CellClass::Free
+    ));
 }
 
 /// A rover stereo cloud of bare ground `z = profile(x)` on a 5 cm lattice over `[x0, x1] ×

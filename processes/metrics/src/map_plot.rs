@@ -32,6 +32,9 @@ pub enum MappedClass {
     Obstacle,
     /// Traversable at extra cost near an obstacle.
     Inflated,
+    /// Maybe too tall to climb, or the body would touch such a rock: traversable at a cost
+    /// until a closer look settles it.
+    Uncertain,
 }
 
 /// One mapped cell.
@@ -103,10 +106,11 @@ fn cell_colour(class: MappedClass, observer: Observer) -> RGBColor {
         (MappedClass::Inflated, Observer::Both) => RGBColor(205, 170, 220),
         (MappedClass::Obstacle, Observer::Nobody) => RGBColor(90, 90, 90),
         (MappedClass::Inflated, Observer::Nobody) => RGBColor(225, 215, 190),
+        (MappedClass::Uncertain, _) => RGBColor(240, 190, 40),
     }
 }
 
-const LEGEND: [(&str, MappedClass, Observer); 7] = [
+const LEGEND: [(&str, MappedClass, Observer); 8] = [
     ("rover obstacle", MappedClass::Obstacle, Observer::Rover),
     ("rover inflated", MappedClass::Inflated, Observer::Rover),
     ("jumper obstacle", MappedClass::Obstacle, Observer::Jumper),
@@ -114,6 +118,7 @@ const LEGEND: [(&str, MappedClass, Observer); 7] = [
     ("both obstacle", MappedClass::Obstacle, Observer::Both),
     ("both inflated", MappedClass::Inflated, Observer::Both),
     ("inflated, unseen", MappedClass::Inflated, Observer::Nobody),
+    ("maybe too tall", MappedClass::Uncertain, Observer::Both),
 ];
 
 /// Draws `figure` into a PNG at `path`.

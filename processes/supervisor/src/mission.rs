@@ -204,7 +204,9 @@ impl MissionObserver {
             collisions: self.collisions,
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
-            inflated_cells: count(CellClass::Inflated) + count(CellClass::Lethal),
+            inflated_cells: count(CellClass::Inflated)
+                + count(CellClass::Lethal)
+                + count(CellClass::Uncertain),
             evaluation: serde_json::Map::new(),
         }
     }

@@ -86,7 +86,7 @@ fn cell_change(update: &CellUpdate) -> Option<MapChange> {
     let class = CellClass::from_code(update.class)?;
     let state = match class {
         CellClass::Unknown => CellState::Unknown,
-        CellClass::Free | CellClass::Inflated => CellState::Free,
+        CellClass::Free | CellClass::Inflated | CellClass::Uncertain => CellState::Free,
         CellClass::Obstacle | CellClass::Lethal => CellState::Obstacle,
     };
     let seen_by_rover = update.observed_by & (1 << Robot::Rover.code()) != 0;

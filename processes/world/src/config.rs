@@ -12,6 +12,7 @@
 //! assert_eq!(err.to_string(), "terrain.spacing_m must be in (0, 1], got 2");
 //! ```
 
+mod landforms;
 mod rocks;
 mod scenario;
 mod surface;
@@ -20,6 +21,9 @@ mod terrain;
 pub(crate) use hopnav_config::range::{Interval, check_int, dotted_key};
 use serde::{Deserialize, Serialize};
 
+pub use landforms::{
+    CorridorFieldConfig, CulDeSacConfig, LandformConfig, ScarpConfig, WallBoulders,
+};
 pub use rocks::{BoulderFieldConfig, ExplicitRockConfig, RockClusterConfig, RockConfig};
 pub use scenario::{MarkerConfig, ScenarioConfig};
 pub use surface::{LightingConfig, TextureConfig};
@@ -72,6 +76,8 @@ pub struct WorldConfig {
     pub craters: CraterConfig,
     /// Rock population (Golombek model, clusters, explicit rocks).
     pub rocks: RockConfig,
+    /// Cul-de-sacs, a scarp and a corridor field between A and B (all off by default).
+    pub landforms: LandformConfig,
     /// Procedural surface texture.
     pub texture: TextureConfig,
     /// Sun direction and ambient light (baked into the texture).
@@ -89,6 +95,7 @@ impl Default for WorldConfig {
             terrain: TerrainConfig::default(),
             craters: CraterConfig::default(),
             rocks: RockConfig::default(),
+            landforms: LandformConfig::default(),
             texture: TextureConfig::default(),
             lighting: LightingConfig::default(),
             scenario: ScenarioConfig::default(),
@@ -103,6 +110,7 @@ impl WorldConfig {
         self.terrain.validate("terrain")?;
         self.craters.validate("craters")?;
         self.rocks.validate("rocks")?;
+        self.landforms.validate("landforms", &self.terrain)?;
         self.texture.validate("texture", &self.terrain)?;
         self.lighting.validate("lighting")?;
         self.scenario.validate("scenario", &self.terrain)?;

@@ -46,6 +46,7 @@ pub mod camera;
 pub mod config;
 pub mod craters;
 pub mod error;
+pub mod landforms;
 pub mod mesh;
 pub mod noise;
 pub mod raster;

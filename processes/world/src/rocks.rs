@@ -40,6 +40,10 @@ pub enum RockSource {
     Explicit(u32),
     /// Boulder field with this index (see [`crate::boulder_fields`]).
     BoulderField(u32),
+    /// Cul-de-sac with this index (see [`crate::landforms::cul_de_sac`]).
+    CulDeSac(u32),
+    /// The corridor field (see [`crate::landforms::corridor_field`]).
+    CorridorField,
 }
 
 /// One rock resting on the terrain.
@@ -161,7 +165,7 @@ impl DiameterSampler {
 }
 
 /// Builds one rock of diameter `d_m` at (x, y), resting on the terrain.
-fn make_rock(
+pub(crate) fn make_rock(
     hf: &Heightfield,
     rng: &mut Rng,
     xy: [f64; 2],

@@ -15,6 +15,7 @@
 use crate::config::{MarkerConfig, WorldConfig};
 use crate::craters::{Crater, apply_craters, sample_craters};
 use crate::error::WorldError;
+use crate::landforms;
 use crate::rocks::{Rock, generate_rocks};
 use crate::terrain::Heightfield;
 
@@ -34,7 +35,19 @@ impl World {
         let mut terrain = Heightfield::from_relief(config.seed, &config.terrain);
         let craters = sample_craters(config.seed, &config.craters, &config.scenario, &terrain);
         apply_craters(&mut terrain, &craters);
-        let rocks = generate_rocks(config.seed, &config.rocks, &config.scenario, &terrain);
+        landforms::shape_terrain(
+            config.seed,
+            &config.landforms,
+            &config.scenario,
+            &mut terrain,
+        );
+        let mut rocks = generate_rocks(config.seed, &config.rocks, &config.scenario, &terrain);
+        rocks.extend(landforms::landform_rocks(
+            config.seed,
+            &config.landforms,
+            &config.scenario,
+            &terrain,
+        ));
         Ok(Self {
             config: config.clone(),
             terrain,

@@ -232,8 +232,8 @@ impl Default for CorridorFieldConfig {
             start_fraction: 0.4,
             spacing_m: 1.0,
             corridors: 2,
-            corridor_width_m: 3.0,
-            corridor_offset_min_m: 5.0,
+            corridor_width_m: 4.0,
+            corridor_offset_min_m: 6.0,
             corridor_offset_max_m: 22.0,
             boulders: WallBoulders {
                 diameter_min_m: 0.7,

@@ -9,8 +9,8 @@
 //! let config = CorridorFieldConfig { depth_m: 20.0, ..CorridorFieldConfig::default() };
 //! let corridors = place_corridors(3, &config);
 //! assert_eq!(corridors.len(), 2);
-//! // Every corridor keeps at least 5 m to the side of the A-B line.
-//! assert!(corridors.iter().all(|c| c.sides_m.iter().all(|side| side.abs() >= 5.0)));
+//! // Every corridor keeps at least 6 m to the side of the A-B line.
+//! assert!(corridors.iter().all(|c| c.sides_m.iter().all(|side| side.abs() >= 6.0)));
 //! ```
 
 use super::AbFrame;
@@ -192,7 +192,7 @@ mod tests {
                     );
                 }
             }
-            // Within 3 m of the A–B line the band is shut: a rover 0.8 m wide finds no way
+            // Within 1.5 m of the A–B line the band is shut: a rover 0.8 m wide finds no way
             // across it there (a flood fill over 5 cm cells, each free when the rover's
             // centre there keeps half its width from every boulder).
             assert!(
@@ -202,16 +202,16 @@ mod tests {
         }
     }
 
-    /// Whether a disc of `half_width_m` can cross the band `band_m` within 3 m of A–B.
+    /// Whether a disc of `half_width_m` can cross the band `band_m` within 1.5 m of A–B.
     fn crosses_near_the_line(
         boulders: &[(f64, f64, f64)],
         band_m: [f64; 2],
         half_width_m: f64,
     ) -> bool {
         let cell_m = 0.05;
-        let (along0_m, side0_m) = (band_m[0] - 1.0, -3.0);
+        let (along0_m, side0_m) = (band_m[0] - 1.0, -1.5);
         let rows = ((band_m[1] - band_m[0] + 2.0) / cell_m) as usize;
-        let columns = (6.0 / cell_m) as usize;
+        let columns = (3.0 / cell_m) as usize;
         let near: Vec<&(f64, f64, f64)> = boulders.iter().filter(|b| b.1.abs() < 5.0).collect();
         let free = |row: usize, column: usize| {
             let (along_m, side_m) = (

@@ -178,10 +178,7 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
         "false cells",
         "near track open %"
     );
-    println!(
-        "{:>46} {:>16} {:>16} {:>16} {:>16}",
-        "(median / worst)", "", "", "", ""
-    );
+    println!("{:>52}", "(median / worst)");
     for k in ABUNDANCES {
         let of_k: Vec<&MissionRow> = rows.iter().filter(|row| row.golombek_k == k).collect();
         if of_k.is_empty() {

@@ -42,11 +42,7 @@ impl PoseEstimate {
         is_keyframe: bool,
     ) -> Self {
         Self {
-            stamp: SampleStamp {
-                frame_index: frame.frame_index,
-                sim_time_ns: frame.sim_time_ns,
-                ..SampleStamp::default()
-            },
+            stamp: frame.for_same_frame(),
             world_from_body,
             confidence,
             scale,

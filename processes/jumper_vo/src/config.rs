@@ -179,10 +179,12 @@ impl JumperVoConfig {
         KEYS.count("min_tracked_features", self.min_tracked_features, 8, 1000)?;
         KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
         KEYS.real("mount_pitch_down_rad", self.mount_pitch_down_rad, -1.5, 1.5)?;
-        for v in self.camera_offset_body_m {
-            KEYS.real("camera_offset_body_m", v, -5.0, 5.0)
-                .map_err(|rejected| rejected.noted("per axis"))?;
-        }
+        KEYS.per_axis(
+            "camera_offset_body_m",
+            &self.camera_offset_body_m,
+            -5.0,
+            5.0,
+        )?;
         KEYS.real(
             "keyframe_min_parallax_deg",
             self.keyframe_min_parallax_deg,
@@ -249,10 +251,12 @@ impl JumperVoConfig {
             0.0,
             1000.0,
         )?;
-        for w in self.launch_angular_velocity_body_radps {
-            KEYS.real("launch_angular_velocity_body_radps", w, -10.0, 10.0)
-                .map_err(|rejected| rejected.noted("per axis"))?;
-        }
+        KEYS.per_axis(
+            "launch_angular_velocity_body_radps",
+            &self.launch_angular_velocity_body_radps,
+            -10.0,
+            10.0,
+        )?;
         KEYS.real(
             "landing_slide_decay_per_s",
             self.landing_slide_decay_per_s,

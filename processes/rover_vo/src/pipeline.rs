@@ -311,10 +311,7 @@ impl RoverVo {
     }
 
     fn clear_tracks(&mut self) {
-        self.track_px.clear();
-        self.track_world.clear();
-        self.track_sigma_m.clear();
-        self.track_id.clear();
+        self.truncate_tracks(0);
     }
 
     /// Processes one stereo frame.

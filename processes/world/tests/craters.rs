@@ -1,15 +1,15 @@
 //! Fresh craters: depth ≈ 0.2 × diameter, raised rim.
 
-use hopnav_world::{World, WorldConfig};
+mod common;
+
+use common::sized_world;
+use hopnav_world::World;
 
 #[test]
 fn crater_depth_is_a_fifth_of_the_diameter() {
-    let mut cfg = WorldConfig::default();
-    cfg.terrain.size_x_m = 20.0;
-    cfg.terrain.size_y_m = 20.0;
+    let mut cfg = sized_world(20.0, 20.0, 0.0);
     cfg.terrain.spacing_m = 0.05;
     cfg.terrain.relief_amplitude_m = 0.0;
-    cfg.rocks.golombek_k = 0.0;
     cfg.texture.texel_m = 0.05;
     cfg.craters.count = 1;
     cfg.craters.diameter_min_m = 6.0;
@@ -36,11 +36,8 @@ fn crater_depth_is_a_fifth_of_the_diameter() {
 
 #[test]
 fn crater_rims_keep_clear_of_start_and_goal() {
-    let mut cfg = WorldConfig::default();
-    cfg.terrain.size_x_m = 30.0;
-    cfg.terrain.size_y_m = 12.0;
+    let mut cfg = sized_world(30.0, 12.0, 0.0);
     cfg.terrain.spacing_m = 0.1;
-    cfg.rocks.golombek_k = 0.0;
     cfg.craters.count = 60;
     cfg.craters.diameter_min_m = 3.0;
     cfg.craters.diameter_max_m = 8.0;

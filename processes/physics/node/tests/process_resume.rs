@@ -9,7 +9,7 @@ use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
-use hopnav_physics::{FrameInputs, PhysicsSim};
+use hopnav_physics::{FrameInputs, FrameOutputs, PhysicsSim};
 use hopnav_physics_node::{PhysicsProcess, physics_section};
 use hopnav_world::{World, WorldConfig};
 
@@ -62,6 +62,36 @@ fn restart_and_step(
     (states, physics.rejected_samples())
 }
 
+/// The uninterrupted reference: the same world, configuration and seed, no inputs, for
+/// `frames` frames.
+fn uninterrupted_reference(
+    config: &hopnav_config::HopnavConfig,
+    frames: usize,
+) -> Vec<FrameOutputs> {
+    let world_config: WorldConfig = parse_section(config, "world").expect("world");
+    let world = World::generate(&world_config).expect("world");
+    let mut reference = PhysicsSim::new(
+        &world,
+        &physics_section(config).expect("physics"),
+        world_config.seed,
+    )
+    .expect("sim");
+    (0..frames)
+        .map(|_| reference.step_frame(&FrameInputs::default()))
+        .collect()
+}
+
+/// The first incarnation runs `frames` frames, its states relayed, and is killed: no stop,
+/// nothing saved on the way out.
+fn run_and_kill(namespace: &Namespace, run_dir: &std::path::Path, relay: &mut Relay, frames: u64) {
+    let context = context(namespace, run_dir, 0);
+    let mut physics = PhysicsProcess::new(&context).expect("new");
+    for frame_index in 0..frames {
+        physics.step(&context, &tick(frame_index)).expect("step");
+        relay.forward();
+    }
+}
+
 #[test]
 fn a_restarted_physics_continues_from_the_last_state_and_refuses_a_bad_one() {
     let run_id = format!("physics-resume-test-{}", std::process::id());
@@ -78,30 +108,11 @@ fn a_restarted_physics_continues_from_the_last_state_and_refuses_a_bad_one() {
         last: None,
     };
 
-    // The uninterrupted reference: the same world, configuration and seed, no inputs.
-    let world_config: WorldConfig = parse_section(&config, "world").expect("world");
-    let world = World::generate(&world_config).expect("world");
-    let mut reference = PhysicsSim::new(
-        &world,
-        &physics_section(&config).expect("physics"),
-        world_config.seed,
-    )
-    .expect("sim");
-    let reference: Vec<_> = (0..31)
-        .map(|_| reference.step_frame(&FrameInputs::default()))
-        .collect();
+    let reference = uninterrupted_reference(&config, 31);
 
     // The first incarnation runs 30 frames (the jumper is in its initial hop) and is killed.
     const KILLED_AFTER: u64 = 30;
-    {
-        let context = context(&namespace, &run_dir, 0);
-        let mut physics = PhysicsProcess::new(&context).expect("new");
-        for frame_index in 0..KILLED_AFTER {
-            physics.step(&context, &tick(frame_index)).expect("step");
-            relay.forward();
-        }
-        // Killed: no stop, nothing saved on the way out.
-    }
+    run_and_kill(&namespace, &run_dir, &mut relay, KILLED_AFTER);
     let last = relay.last.expect("state published every frame");
     assert_eq!(last.frames_simulated, KILLED_AFTER);
     assert_eq!(last.stamp.sim_time_ns, KILLED_AFTER * PERIOD_NS);

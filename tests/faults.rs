@@ -32,7 +32,7 @@ fn launch_strict(
 
 #[test]
 fn every_fault_kind_is_executed_recorded_and_survived() {
-    let (out, run) = (out_dir("faults"), run_id("faults"));
+    let (out, run) = out_and_run("faults");
     let output = launch(
         &out,
         &run,
@@ -132,7 +132,7 @@ fn a_step_asleep_beyond_the_watchdog_is_a_hang() {
 
 #[test]
 fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
-    let (out, run) = (out_dir("fault-bad"), run_id("fault-bad"));
+    let (out, run) = out_and_run("fault-bad");
     let with_fault = |fault: &str| {
         launch(
             &out,
@@ -155,7 +155,7 @@ fn a_fault_on_a_process_outside_the_graph_is_a_config_error() {
 /// closely as without faults. (physics is killed in its own test below.)
 #[test]
 fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
-    let (out, run) = (out_dir("mission-faults"), run_id("mission-faults"));
+    let (out, run) = out_and_run("mission-faults");
     // Kills are the faults here: a loaded machine that delays a frame must not add a hang.
     let patient = fixture_config("valid/patient_watchdog.toml");
     let output = launch(
@@ -219,7 +219,7 @@ fn the_mission_reaches_its_goal_through_restarts_of_its_processes() {
 #[test]
 fn a_restarted_rover_vo_measures_the_motion_it_did_not_see() {
     const KILL_FRAME: u64 = 150;
-    let (out, run) = (out_dir("rover-vo-kill"), run_id("rover-vo-kill"));
+    let (out, run) = out_and_run("rover-vo-kill");
     let kill = format!("kill:rover_vo@f{KILL_FRAME}");
     let output = launch(
         &out,
@@ -263,7 +263,7 @@ fn a_restarted_rover_vo_measures_the_motion_it_did_not_see() {
 fn a_killed_physics_resumes_its_simulation_instead_of_starting_over() {
     const FRAMES: u64 = 120;
     const KILL_FRAME: u64 = 40;
-    let (out, run) = (out_dir("physics-kill"), run_id("physics-kill"));
+    let (out, run) = out_and_run("physics-kill");
     let kill = format!("kill:physics@f{KILL_FRAME}");
     let frames = FRAMES.to_string();
     let output = launch(

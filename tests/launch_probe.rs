@@ -6,7 +6,7 @@ use common::*;
 
 #[test]
 fn lockstep_probe_launch_completes_every_frame_and_reports() {
-    let (out, run) = (out_dir("probe"), run_id("probe"));
+    let (out, run) = out_and_run("probe");
     let output = launch(
         &out,
         &run,

@@ -13,7 +13,7 @@ fn mission(report: &serde_json::Value) -> &serde_json::Value {
 
 #[test]
 fn the_default_cooperative_mission_reaches_the_goal() {
-    let (out, run) = (out_dir("mission"), run_id("mission"));
+    let (out, run) = out_and_run("mission");
     let output = launch(&out, &run, &["--lockstep"]);
     let report = report(&out, &run);
     assert!(output.status.success(), "{report:#}");

@@ -33,7 +33,7 @@ fn the_serving_sink(run: &str, settle: Duration) -> i32 {
 
 #[test]
 fn killed_child_is_restarted_and_the_launch_completes() {
-    let (out, run) = (out_dir("restart"), run_id("restart"));
+    let (out, run) = out_and_run("restart");
     // Lockstep, long enough that the kill lands mid-run even on a fast machine.
     let mut child = spawn_lockstep(&out, &run, &probe_config(), "3000");
     let victim = the_serving_sink(&run, Duration::from_millis(300));
@@ -60,7 +60,7 @@ fn killed_child_is_restarted_and_the_launch_completes() {
 
 #[test]
 fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
-    let (out, run) = (out_dir("crash-loop"), run_id("crash-loop"));
+    let (out, run) = out_and_run("crash-loop");
     let config = fixture_config("valid/strict_supervision.toml");
     let mut child = spawn_lockstep(&out, &run, &config, "100000");
     for _ in 0..2 {
@@ -84,7 +84,7 @@ fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
 
 #[test]
 fn a_hung_child_is_detected_by_the_watchdog_killed_and_restarted() {
-    let (out, run) = (out_dir("hang"), run_id("hang"));
+    let (out, run) = out_and_run("hang");
     let config = fixture_config("valid/strict_supervision.toml");
     let mut child = spawn_lockstep(&out, &run, &config, "3000");
     let frozen = the_serving_sink(&run, Duration::from_millis(200));
@@ -106,7 +106,7 @@ fn a_hung_child_is_detected_by_the_watchdog_killed_and_restarted() {
 
 #[test]
 fn a_dead_standby_leaves_cold_restarts_and_the_launch_completes() {
-    let (out, run) = (out_dir("dead-standby"), run_id("dead-standby"));
+    let (out, run) = out_and_run("dead-standby");
     let mut child = spawn_lockstep(&out, &run, &probe_config(), "3000");
     let all_sinks = || pids_with_args(&["run", "probe_sink", &run]);
     let serving = || serving_sinks(&run);

@@ -9,7 +9,7 @@ use common::*;
 
 #[test]
 fn shared_memory_is_not_readable_by_other_users() {
-    let (out, run) = (out_dir("shm-perms"), run_id("shm-perms"));
+    let (out, run) = out_and_run("shm-perms");
     // Real time, so the launch is still running while we look.
     let mut child = spawn_launch(&out, &run, &[&probe_config(), "--frames", "40"]);
     let files = || leftover_files(&run);

@@ -24,7 +24,7 @@ fn running_probe_graph(out: &Path, run: &str) -> Child {
 
 #[test]
 fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
-    let (out, run) = (out_dir("sigkill"), run_id("sigkill"));
+    let (out, run) = out_and_run("sigkill");
     let mut supervisor = running_probe_graph(&out, &run);
     let children = || pids_with_args(&["run", &run]);
     std::thread::sleep(Duration::from_millis(300));
@@ -67,7 +67,7 @@ fn sigkill_of_the_supervisor_leaves_no_orphans_and_the_next_launch_cleans_up() {
 
 #[test]
 fn sigterm_stops_the_launch_cleanly_with_a_report() {
-    let (out, run) = (out_dir("sigterm"), run_id("sigterm"));
+    let (out, run) = out_and_run("sigterm");
     let mut supervisor = running_probe_graph(&out, &run);
     let children = || pids_with_args(&["run", &run]);
     std::thread::sleep(Duration::from_millis(500));

@@ -28,6 +28,8 @@
 //! assert!(KEYS.real("fov_rad", 1.0, 0.1, 3.0).is_ok());
 //! let rejected = KEYS.count("width_px", 0, 16, 4096).unwrap_err();
 //! assert_eq!(rejected.to_string(), "camera.width_px must be in [16, 4096], got 0");
+//! let rejected = KEYS.per_axis("offset_m", &[0.0, 9.0], -1.0, 1.0).unwrap_err();
+//! assert_eq!(rejected.range, "[-1, 1] (per axis)");
 //! ```
 
 use std::fmt;
@@ -167,6 +169,15 @@ impl Table {
     /// Checks a real value against `[lo, hi]` (it must also be finite).
     pub fn real(&self, field: &str, v: f64, lo: f64, hi: f64) -> Result<(), OutOfRange> {
         Interval::closed(lo, hi).check(self.name, field, v)
+    }
+
+    /// Checks every component of a vector against `[lo, hi]`; the range says `per axis`.
+    pub fn per_axis(&self, field: &str, v: &[f64], lo: f64, hi: f64) -> Result<(), OutOfRange> {
+        for &component in v {
+            self.real(field, component, lo, hi)
+                .map_err(|rejected| rejected.noted("per axis"))?;
+        }
+        Ok(())
     }
 
     /// Checks a count against `[lo, hi]`.

@@ -33,6 +33,33 @@ fn check_f64(key: &str, value: f64, min: f64, max: f64) -> Result<(), ConfigErro
 
 /// Checks every range of the configuration.
 pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
+    validate_run(config)?;
+    validate_watchdog(config)?;
+    config.faults.specs().map_err(|error| ConfigError::Schema {
+        key: "faults.inject".into(),
+        message: error.to_string(),
+    })?;
+    validate_restart(config)?;
+    validate_processes(config)?;
+    let recorder_enabled = config
+        .processes
+        .get("recorder")
+        .is_some_and(|process| process.enabled);
+    if recorder_enabled && config.recorder.dir.trim().is_empty() {
+        return Err(ConfigError::OutOfRange {
+            key: "recorder.dir".into(),
+            value: "\"\"".into(),
+            allowed: "a folder path when processes.recorder.enabled (or use --export-dataset DIR)"
+                .into(),
+        });
+    }
+    check("probe.width_px", config.probe.width_px, 1, 8192)?;
+    check("probe.height_px", config.probe.height_px, 1, 8192)?;
+    Ok(())
+}
+
+/// `[run]`: rate, length, timeouts and the output folder.
+fn validate_run(config: &HopnavConfig) -> Result<(), ConfigError> {
     let run = &config.run;
     check_f64("run.frame_rate_hz", run.frame_rate_hz, 0.1, 1000.0)?;
     check("run.frames", run.frames, 1, 10_000_000)?;
@@ -45,6 +72,11 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
             allowed: "a non-empty path".into(),
         });
     }
+    Ok(())
+}
+
+/// `[watchdog]`: the heartbeat limit, and the stall limit below it.
+fn validate_watchdog(config: &HopnavConfig) -> Result<(), ConfigError> {
     check(
         "watchdog.heartbeat_timeout_frames",
         config.watchdog.heartbeat_timeout_frames,
@@ -57,10 +89,11 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
         1.1,
         f64::from(config.watchdog.heartbeat_timeout_frames),
     )?;
-    config.faults.specs().map_err(|error| ConfigError::Schema {
-        key: "faults.inject".into(),
-        message: error.to_string(),
-    })?;
+    Ok(())
+}
+
+/// `[restart]`: intensity and back-off.
+fn validate_restart(config: &HopnavConfig) -> Result<(), ConfigError> {
     let restart = &config.restart;
     check("restart.max_restarts", restart.max_restarts, 0, 1000)?;
     check_f64("restart.window_s", restart.window_s, 0.1, 86_400.0)?;
@@ -76,6 +109,11 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
         restart.backoff_initial_ms,
         600_000,
     )?;
+    Ok(())
+}
+
+/// `[processes]`: at least one enabled, names, stages and budgets.
+fn validate_processes(config: &HopnavConfig) -> Result<(), ConfigError> {
     if !config.processes.values().any(|process| process.enabled) {
         return Err(ConfigError::OutOfRange {
             key: "processes".into(),
@@ -104,20 +142,6 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
             60_000.0,
         )?;
     }
-    let recorder_enabled = config
-        .processes
-        .get("recorder")
-        .is_some_and(|process| process.enabled);
-    if recorder_enabled && config.recorder.dir.trim().is_empty() {
-        return Err(ConfigError::OutOfRange {
-            key: "recorder.dir".into(),
-            value: "\"\"".into(),
-            allowed: "a folder path when processes.recorder.enabled (or use --export-dataset DIR)"
-                .into(),
-        });
-    }
-    check("probe.width_px", config.probe.width_px, 1, 8192)?;
-    check("probe.height_px", config.probe.height_px, 1, 8192)?;
     Ok(())
 }
 

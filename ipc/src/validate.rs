@@ -331,13 +331,11 @@ impl SliceHeader for CloudHeader {
     fn validate_slice(&self, points: &[FeaturePoint]) -> Result<(), Rejection> {
         self.validate()?;
         length(self.point_count as usize, points.len())?;
-        match points.iter().position(|point| !point.is_valid()) {
-            Some(index) => Err(Rejection::BadElement {
-                index,
-                reason: "non-finite position or sigma",
-            }),
-            None => Ok(()),
-        }
+        all_valid(
+            points,
+            "non-finite position or sigma",
+            FeaturePoint::is_valid,
+        )
     }
 }
 
@@ -346,18 +344,11 @@ impl SliceHeader for MapHeader {
     fn validate_slice(&self, cells: &[CellUpdate]) -> Result<(), Rejection> {
         self.validate()?;
         length(self.update_count as usize, cells.len())?;
-        let bad = cells.iter().position(|cell| {
-            cell.x >= self.width_cells
-                || cell.y >= self.height_cells
-                || CellClass::from_code(cell.class).is_none()
-        });
-        match bad {
-            Some(index) => Err(Rejection::BadElement {
-                index,
-                reason: "cell outside the grid or unknown class",
-            }),
-            None => Ok(()),
-        }
+        all_valid(cells, "cell outside the grid or unknown class", |cell| {
+            cell.x < self.width_cells
+                && cell.y < self.height_cells
+                && CellClass::from_code(cell.class).is_some()
+        })
     }
 }
 
@@ -366,16 +357,21 @@ impl SliceHeader for PathHeader {
     fn validate_slice(&self, points: &[PathPoint]) -> Result<(), Rejection> {
         self.validate()?;
         length(self.point_count as usize, points.len())?;
-        match points
-            .iter()
-            .position(|point| !(point.x_m.is_finite() && point.y_m.is_finite()))
-        {
-            Some(index) => Err(Rejection::BadElement {
-                index,
-                reason: "non-finite waypoint",
-            }),
-            None => Ok(()),
-        }
+        all_valid(points, "non-finite waypoint", |point| {
+            point.x_m.is_finite() && point.y_m.is_finite()
+        })
+    }
+}
+
+/// Refuses the slice at its first element that is not `valid`, saying `reason`.
+fn all_valid<T>(
+    elements: &[T],
+    reason: &'static str,
+    valid: impl Fn(&T) -> bool,
+) -> Result<(), Rejection> {
+    match elements.iter().position(|element| !valid(element)) {
+        Some(index) => Err(Rejection::BadElement { index, reason }),
+        None => Ok(()),
     }
 }
 

@@ -153,6 +153,26 @@ fn path_point() -> PathPoint {
     }
 }
 
+/// A slice `header` accepts (after `set_count` announced the slice's true length, if given)
+/// is valid itself, announces `count` elements, and every element is `element_ok`.
+fn accepted_slice_keeps_its_promises<H: SliceHeader>(
+    mut header: H,
+    elements: &[H::Element],
+    set_count: Option<fn(&mut H, u32)>,
+    count: impl Fn(&H) -> u32,
+    element_ok: impl Fn(&H, &H::Element) -> bool,
+) -> Result<(), TestCaseError> {
+    if let Some(set_count) = set_count {
+        set_count(&mut header, elements.len() as u32);
+    }
+    if header.validate_slice(elements).is_ok() {
+        prop_assert_eq!(header.validate(), Ok(()));
+        prop_assert_eq!(count(&header) as usize, elements.len());
+        prop_assert!(elements.iter().all(|element| element_ok(&header, element)));
+    }
+    Ok(())
+}
+
 /// Checks one message type: arbitrary and corrupted values never panic in `validate`.
 macro_rules! message_never_panics {
     ($name:ident, $type:ty, $base:expr) => {
@@ -216,15 +236,13 @@ proptest! {
         points in elements(FeaturePoint::default(), 8),
         match_len in any::<bool>(),
     ) {
-        let mut header = header;
-        if match_len {
-            header.point_count = points.len() as u32;
-        }
-        if header.validate_slice(&points).is_ok() {
-            prop_assert_eq!(header.validate(), Ok(()));
-            prop_assert_eq!(header.point_count as usize, points.len());
-            prop_assert!(points.iter().all(FeaturePoint::is_valid));
-        }
+        accepted_slice_keeps_its_promises(
+            header,
+            &points,
+            match_len.then_some(|h: &mut CloudHeader, n| h.point_count = n),
+            |h| h.point_count,
+            |_, point| point.is_valid(),
+        )?;
     }
 
     #[test]
@@ -233,18 +251,17 @@ proptest! {
         cells in elements(cell(), 8),
         match_len in any::<bool>(),
     ) {
-        let mut header = header;
-        if match_len {
-            header.update_count = cells.len() as u32;
-        }
-        if header.validate_slice(&cells).is_ok() {
-            prop_assert_eq!(header.validate(), Ok(()));
-            prop_assert_eq!(header.update_count as usize, cells.len());
-            for cell in &cells {
-                prop_assert!(cell.x < header.width_cells && cell.y < header.height_cells);
-                prop_assert!(CellClass::from_code(cell.class).is_some());
-            }
-        }
+        accepted_slice_keeps_its_promises(
+            header,
+            &cells,
+            match_len.then_some(|h: &mut MapHeader, n| h.update_count = n),
+            |h| h.update_count,
+            |h, cell| {
+                cell.x < h.width_cells
+                    && cell.y < h.height_cells
+                    && CellClass::from_code(cell.class).is_some()
+            },
+        )?;
     }
 
     #[test]
@@ -253,15 +270,13 @@ proptest! {
         points in elements(path_point(), 8),
         match_len in any::<bool>(),
     ) {
-        let mut header = header;
-        if match_len {
-            header.point_count = points.len() as u32;
-        }
-        if header.validate_slice(&points).is_ok() {
-            prop_assert_eq!(header.validate(), Ok(()));
-            prop_assert_eq!(header.point_count as usize, points.len());
-            prop_assert!(points.iter().all(|p| p.x_m.is_finite() && p.y_m.is_finite()));
-        }
+        accepted_slice_keeps_its_promises(
+            header,
+            &points,
+            match_len.then_some(|h: &mut PathHeader, n| h.point_count = n),
+            |h| h.point_count,
+            |_, p| p.x_m.is_finite() && p.y_m.is_finite(),
+        )?;
     }
 
     /// The guard behaves like a small least-recently-used table of last sequences.

@@ -27,23 +27,10 @@ fn namespace(test: &str) -> TestNamespace {
     TestNamespace(Namespace::new(&format!("t{}-{test}", std::process::id())).expect("namespace"))
 }
 
-fn image_header(width_px: u32, height_px: u32) -> ImageHeader {
-    ImageHeader {
-        intrinsics: CameraIntrinsics {
-            fx_px: 386.3,
-            fy_px: 386.3,
-            cx_px: 160.0,
-            cy_px: 160.0,
-        },
-        width_px,
-        height_px,
-        stride_bytes: width_px,
-        format: PixelFormat::Mono8.code(),
-        view_count: 1,
-        robot: Robot::Jumper.code(),
-        ..ImageHeader::default()
-    }
-}
+#[path = "support/image_header.rs"]
+mod image_header_fixture;
+
+use image_header_fixture::image_header;
 
 #[test]
 fn fixed_messages_arrive_stamped_in_order() {
@@ -100,20 +87,20 @@ fn image_slices_are_drawn_in_place_and_validated() {
     publisher
         .send_from_fn(
             64 * 64,
-            |header| *header = image_header(64, 64),
+            |header| *header = image_header(64, 64, 1),
             |i| i as u8,
         )
         .expect("send");
     publisher
         .send_with(32 * 32, |header, pixels| {
-            *header = image_header(32, 32);
+            *header = image_header(32, 32, 1);
             pixels[5] = 200;
             Ok::<(), String>(())
         })
         .expect("send");
     // A header that lies about its size: rejected by the subscriber, not a crash.
     publisher
-        .send_from_fn(10, |header| *header = image_header(64, 64), |_| 0)
+        .send_from_fn(10, |header| *header = image_header(64, 64, 1), |_| 0)
         .expect("send");
 
     let first = subscriber.receive().expect("receive").expect("first image");
@@ -191,7 +178,7 @@ fn exhausted_shared_memory_is_a_clear_error_not_a_crash() {
     // cannot loan, or the subscriber may not borrow more. Both must be clear errors naming
     // the topic, and nothing may crash.
     let mut held = Vec::new();
-    let header = image_header(8, 8);
+    let header = image_header(8, 8, 1);
     let mut refusal = None;
     for _ in 0..64 {
         if let Err(error) = publisher.send_from_fn(64, |h| *h = header, |_| 7) {

@@ -28,6 +28,11 @@ pub fn run_id(test: &str) -> String {
     format!("t{}-{test}", std::process::id())
 }
 
+/// The fresh output folder and the run id of `test`.
+pub fn out_and_run(test: &str) -> (PathBuf, String) {
+    (out_dir(test), run_id(test))
+}
+
 /// A fresh output folder for `test`.
 pub fn out_dir(test: &str) -> PathBuf {
     let dir = std::env::temp_dir()

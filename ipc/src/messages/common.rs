@@ -19,6 +19,18 @@ pub struct SampleStamp {
     pub publish_stamp_ns: u64,
 }
 
+impl SampleStamp {
+    /// A stamp for a sample about the same frame as this one: its frame index and simulated
+    /// time; the transport adds the sequence and the publish time.
+    pub fn for_same_frame(&self) -> Self {
+        Self {
+            frame_index: self.frame_index,
+            sim_time_ns: self.sim_time_ns,
+            ..Self::default()
+        }
+    }
+}
+
 /// A 3-vector in metres, metres per second, or radians per second as the field name says.
 pub type Vec3 = [f64; 3];
 

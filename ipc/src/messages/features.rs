@@ -51,11 +51,7 @@ impl CloudHeader {
         keyframe_index: u64,
     ) -> Self {
         Self {
-            stamp: SampleStamp {
-                frame_index: frame.frame_index,
-                sim_time_ns: frame.sim_time_ns,
-                ..SampleStamp::default()
-            },
+            stamp: frame.for_same_frame(),
             world_from_camera,
             point_count: point_count as u32,
             robot: robot.code(),

@@ -2,7 +2,7 @@
 
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::{Pose3, SampleStamp};
+use super::{Pose3, Robot, SampleStamp};
 
 /// A 6-DOF pose estimate of one robot.
 #[repr(C)]
@@ -28,3 +28,28 @@ pub struct PoseEstimate {
 }
 
 const _: () = assert!(size_of::<PoseEstimate>() == 120);
+
+impl PoseEstimate {
+    /// A VO's estimate of `robot`'s pose on the frame `frame` stamps (its index and simulated
+    /// time; the transport adds the sequence and the publish time).
+    pub fn from_vo(
+        robot: Robot,
+        frame: &SampleStamp,
+        world_from_body: Pose3,
+        confidence: f64,
+        scale: f64,
+        tracked_features: usize,
+        is_keyframe: bool,
+    ) -> Self {
+        Self {
+            stamp: frame.for_same_frame(),
+            world_from_body,
+            confidence,
+            scale,
+            tracked_features: tracked_features as u32,
+            robot: robot.code(),
+            is_keyframe: u32::from(is_keyframe),
+            reserved: 0,
+        }
+    }
+}

@@ -8,6 +8,7 @@
 
 mod error;
 mod intake;
+mod keyframe_cloud;
 mod open;
 mod outlet;
 mod publisher;

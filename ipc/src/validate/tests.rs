@@ -3,23 +3,10 @@
 use super::*;
 use crate::messages::{CameraIntrinsics, Pose3};
 
-fn image_header(width_px: u32, height_px: u32, view_count: u32) -> ImageHeader {
-    ImageHeader {
-        intrinsics: CameraIntrinsics {
-            fx_px: 386.3,
-            fy_px: 386.3,
-            cx_px: 160.0,
-            cy_px: 160.0,
-        },
-        width_px,
-        height_px,
-        stride_bytes: width_px,
-        format: PixelFormat::Mono8.code(),
-        view_count,
-        robot: Robot::Jumper.code(),
-        ..ImageHeader::default()
-    }
-}
+#[path = "../../tests/support/image_header.rs"]
+mod image_header_fixture;
+
+use image_header_fixture::image_header;
 
 #[test]
 fn image_dims_must_match_slice_length() {

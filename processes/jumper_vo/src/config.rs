@@ -175,14 +175,30 @@ const KEYS: Table = Table::new("jumper_vo");
 impl JumperVoConfig {
     /// Checks every value; the error names `jumper_vo.<key>` and the allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_tracking()?;
+        self.validate_keyframes()?;
+        self.validate_flight_model()?;
+        self.validate_spin_and_landing()?;
+        Ok(())
+    }
+
+    /// The tracker, the two-view gates and the camera mount.
+    fn validate_tracking(&self) -> Result<(), ConfigError> {
         KEYS.count("max_features", self.max_features, 16, 4096)?;
         KEYS.count("min_tracked_features", self.min_tracked_features, 8, 1000)?;
         KEYS.real("min_inlier_ratio", self.min_inlier_ratio, 0.0, 1.0)?;
         KEYS.real("mount_pitch_down_rad", self.mount_pitch_down_rad, -1.5, 1.5)?;
-        for v in self.camera_offset_body_m {
-            KEYS.real("camera_offset_body_m", v, -5.0, 5.0)
-                .map_err(|rejected| rejected.noted("per axis"))?;
-        }
+        KEYS.per_axis(
+            "camera_offset_body_m",
+            &self.camera_offset_body_m,
+            -5.0,
+            5.0,
+        )?;
+        Ok(())
+    }
+
+    /// When a keyframe is taken and how long its tracks feed the cloud.
+    fn validate_keyframes(&self) -> Result<(), ConfigError> {
         KEYS.real(
             "keyframe_min_parallax_deg",
             self.keyframe_min_parallax_deg,
@@ -209,6 +225,11 @@ impl JumperVoConfig {
             MAX_CLOUD_TRACK_KEYFRAMES as usize,
         )?;
         KEYS.count("keyframe_min_tracks", self.keyframe_min_tracks, 0, 4096)?;
+        Ok(())
+    }
+
+    /// The ballistic model, the launch prior and the measurement noise.
+    fn validate_flight_model(&self) -> Result<(), ConfigError> {
         KEYS.real("gravity_mps2", self.gravity_mps2, 0.01, 100.0)?;
         KEYS.real("altimeter_sigma_m", self.altimeter_sigma_m, 1e-3, 1000.0)?;
         KEYS.real("direction_sigma_rad", self.direction_sigma_rad, 1e-5, 1.0)?;
@@ -236,6 +257,11 @@ impl JumperVoConfig {
             1e-6,
             1.0,
         )?;
+        Ok(())
+    }
+
+    /// The angular-rate gate, the touchdown test and the landing slide.
+    fn validate_spin_and_landing(&self) -> Result<(), ConfigError> {
         KEYS.real(
             "max_angular_rate_radps",
             self.max_angular_rate_radps,
@@ -249,10 +275,12 @@ impl JumperVoConfig {
             0.0,
             1000.0,
         )?;
-        for w in self.launch_angular_velocity_body_radps {
-            KEYS.real("launch_angular_velocity_body_radps", w, -10.0, 10.0)
-                .map_err(|rejected| rejected.noted("per axis"))?;
-        }
+        KEYS.per_axis(
+            "launch_angular_velocity_body_radps",
+            &self.launch_angular_velocity_body_radps,
+            -10.0,
+            10.0,
+        )?;
         KEYS.real(
             "landing_slide_decay_per_s",
             self.landing_slide_decay_per_s,

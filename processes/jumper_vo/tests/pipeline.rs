@@ -7,6 +7,7 @@ use hopnav_jumper_vo::pipeline::JumperVo;
 use hopnav_jumper_vo::run::run_hop;
 use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
 use hopnav_vision::image::ImageView;
+use nalgebra::Isometry3;
 
 fn small_sim(frames: usize, blackout: Vec<usize>) -> SimulatedHop {
     let mut cfg = SimConfig::default();
@@ -16,6 +17,13 @@ fn small_sim(frames: usize, blackout: Vec<usize>) -> SimulatedHop {
     cfg.num_frames = Some(frames);
     cfg.blackout_frames = blackout;
     simulate_hop(&cfg).unwrap()
+}
+
+/// A VO with the simulation's robot model, placed at the hop's first pose (returned too).
+fn vo_at_launch(sim: &SimulatedHop) -> (JumperVo, Isometry3<f64>) {
+    let config = sim.robot_config(&JumperVoConfig::default());
+    let launch = sim.truth_world_from_body[0];
+    (JumperVo::new(config, sim.camera, launch).unwrap(), launch)
 }
 
 #[test]
@@ -221,9 +229,7 @@ fn feed(
 #[test]
 fn launch_before_the_first_image_is_propagated_to_it() {
     let sim = small_sim(8, Vec::new());
-    let config = sim.robot_config(&JumperVoConfig::default());
-    let launch = sim.truth_world_from_body[0];
-    let mut vo = JumperVo::new(config, sim.camera, launch).unwrap();
+    let (mut vo, launch) = vo_at_launch(&sim);
     vo.start_hop_at(launch, sim.t_s[0]);
     let outputs = feed(&mut vo, &sim, 2);
     assert_eq!(outputs[0].status, VoStatus::Initializing);
@@ -290,9 +296,7 @@ fn landed_body_slides_along_the_touchdown_velocity_then_rests() {
 #[test]
 fn a_launch_that_never_leaves_the_ground_lands_where_it_started() {
     let sim = small_sim(2, Vec::new());
-    let config = sim.robot_config(&JumperVoConfig::default());
-    let launch = sim.truth_world_from_body[0];
-    let mut vo = JumperVo::new(config, sim.camera, launch).unwrap();
+    let (mut vo, launch) = vo_at_launch(&sim);
     let outputs: Vec<_> = (0..30)
         .map(|k| {
             vo.process_frame(FrameInput {

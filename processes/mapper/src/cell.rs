@@ -132,13 +132,7 @@ impl CellStats {
         traversable_height_m: f32,
     ) {
         let z = position_m[2];
-        if self.count == 0 {
-            self.min_z_m = z;
-            self.max_z_m = z;
-        } else {
-            self.min_z_m = self.min_z_m.min(z);
-            self.max_z_m = self.max_z_m.max(z);
-        }
+        widen(&mut self.min_z_m, &mut self.max_z_m, z, self.count == 0);
         self.count = self.count.saturating_add(1);
         if let Some(slot) = self.count_by_robot.get_mut(robot_code as usize) {
             *slot = slot.saturating_add(1);
@@ -148,13 +142,12 @@ impl CellStats {
         }
         match height_above_ground_m {
             Some(height) => {
-                if self.measured_count == 0 {
-                    self.min_height_m = height;
-                    self.max_height_m = height;
-                } else {
-                    self.min_height_m = self.min_height_m.min(height);
-                    self.max_height_m = self.max_height_m.max(height);
-                }
+                widen(
+                    &mut self.min_height_m,
+                    &mut self.max_height_m,
+                    height,
+                    self.measured_count == 0,
+                );
                 self.measured_count = self.measured_count.saturating_add(1);
                 if robot_code == JUMPER_CODE {
                     self.jumper_measured_count = self.jumper_measured_count.saturating_add(1);
@@ -233,6 +226,17 @@ impl CellStats {
     /// The kept highest features of unknown height.
     pub fn high_points(&self) -> &[PointM] {
         &self.high[..usize::from(self.high_len).min(HIGH_POINTS)]
+    }
+}
+
+/// Widens the range `[min, max]` to hold `value`; the `first` value sets both ends.
+fn widen(min: &mut f32, max: &mut f32, value: f32, first: bool) {
+    if first {
+        *min = value;
+        *max = value;
+    } else {
+        *min = min.min(value);
+        *max = max.max(value);
     }
 }
 

@@ -89,51 +89,12 @@ pub fn fit_dome(
     base_per_height: f64,
     view_direction: Option<[f64; 2]>,
 ) -> Option<DomeFit> {
-    let valid = |p: &&RockPoint| {
-        p.xy_m.iter().all(|v| v.is_finite())
-            && p.height_m.is_finite()
-            && p.height_m > 0.0
-            && p.sigma_m.is_finite()
-            && p.sigma_m > 0.0
-    };
-    let points: Vec<&RockPoint> = points.iter().filter(valid).collect();
+    let points = usable_points(points);
     if points.len() < MIN_POINTS || !(base_per_height.is_finite() && base_per_height > 0.0) {
         return None;
     }
-    let direction = view_direction
-        .filter(|d| d.iter().all(|v| v.is_finite()) && d[0].hypot(d[1]) > 1e-6)
-        .map_or([0.0, 0.0], |d| {
-            let n = d[0].hypot(d[1]);
-            [d[0] / n, d[1] / n]
-        });
-    // The priors: the top a little above the second-tallest point (the tallest may be an
-    // outlier; a camera higher than the rock sees near its top), the centre half a base
-    // radius behind that point, away from the camera.
-    let mut by_height = points.clone();
-    by_height.sort_by(|a, b| b.height_m.total_cmp(&a.height_m));
-    let anchor = by_height[1];
-    let height0 = f64::from(anchor.height_m) + f64::from(anchor.sigma_m);
-    let behind_m = 0.5 * base_per_height * height0;
-    let prior = Prior {
-        centre_m: [
-            f64::from(anchor.xy_m[0]) + direction[0] * behind_m,
-            f64::from(anchor.xy_m[1]) + direction[1] * behind_m,
-        ],
-        height_m: height0,
-        shape: base_per_height,
-    };
-    // Two starts, kept by the lower robust cost: from the priors, and from the tallest point.
-    let tallest = by_height[0];
-    let starts = [
-        (prior.centre_m, prior.height_m),
-        (
-            [
-                f64::from(tallest.xy_m[0]) + direction[0] * behind_m,
-                f64::from(tallest.xy_m[1]) + direction[1] * behind_m,
-            ],
-            f64::from(tallest.height_m) + f64::from(tallest.sigma_m),
-        ),
-    ];
+    let direction = unit_direction(view_direction);
+    let (prior, starts) = prior_and_starts(&points, base_per_height, direction);
     let state = starts
         .iter()
         .filter_map(|&(centre_m, height_m)| {
@@ -154,22 +115,85 @@ pub fn fit_dome(
         base_radius_m: state[3] * state[2],
         rms_sigmas: rms,
     };
+    fit_is_credible(&fit, &points, &state).then_some(fit)
+}
+
+/// The points with a finite position and a positive finite height and σ.
+fn usable_points(points: &[RockPoint]) -> Vec<&RockPoint> {
+    let valid = |p: &&RockPoint| {
+        p.xy_m.iter().all(|v| v.is_finite())
+            && p.height_m.is_finite()
+            && p.height_m > 0.0
+            && p.sigma_m.is_finite()
+            && p.sigma_m > 0.0
+    };
+    points.iter().filter(valid).collect()
+}
+
+/// The horizontal view direction as a unit vector (zero if unknown or degenerate).
+fn unit_direction(view_direction: Option<[f64; 2]>) -> [f64; 2] {
+    view_direction
+        .filter(|d| d.iter().all(|v| v.is_finite()) && d[0].hypot(d[1]) > 1e-6)
+        .map_or([0.0, 0.0], |d| {
+            let n = d[0].hypot(d[1]);
+            [d[0] / n, d[1] / n]
+        })
+}
+
+/// The priors, and the two starts of the fit (kept by the lower robust cost): from the
+/// priors, and from the tallest point. The priors: the top a little above the second-tallest
+/// point (the tallest may be an outlier; a camera higher than the rock sees near its top), the
+/// centre half a base radius behind that point, away from the camera.
+fn prior_and_starts(
+    points: &[&RockPoint],
+    base_per_height: f64,
+    direction: [f64; 2],
+) -> (Prior, [([f64; 2], f64); 2]) {
+    let mut by_height = points.to_vec();
+    by_height.sort_by(|a, b| b.height_m.total_cmp(&a.height_m));
+    let anchor = by_height[1];
+    let height0 = f64::from(anchor.height_m) + f64::from(anchor.sigma_m);
+    let behind_m = 0.5 * base_per_height * height0;
+    let prior = Prior {
+        centre_m: [
+            f64::from(anchor.xy_m[0]) + direction[0] * behind_m,
+            f64::from(anchor.xy_m[1]) + direction[1] * behind_m,
+        ],
+        height_m: height0,
+        shape: base_per_height,
+    };
+    let tallest = by_height[0];
+    let starts = [
+        (prior.centre_m, prior.height_m),
+        (
+            [
+                f64::from(tallest.xy_m[0]) + direction[0] * behind_m,
+                f64::from(tallest.xy_m[1]) + direction[1] * behind_m,
+            ],
+            f64::from(tallest.height_m) + f64::from(tallest.sigma_m),
+        ),
+    ];
+    (prior, starts)
+}
+
+/// Whether `fit` is finite and fits its points. The RMS counts outliers at full weight: judge
+/// the fit by its inliers, and by how many points are inliers (a wall or a cluster leaves many
+/// points off any one dome).
+fn fit_is_credible(fit: &DomeFit, points: &[&RockPoint], state: &Vector4<f64>) -> bool {
     let finite = [
         fit.centre_m[0],
         fit.centre_m[1],
         fit.height_m,
-        height_sigma_m,
+        fit.height_sigma_m,
     ]
     .iter()
     .all(|v| v.is_finite());
-    // The RMS counts outliers at full weight: judge the fit by its inliers, and by how many
-    // points are inliers (a wall or a cluster leaves many points off any one dome).
     let outliers = points
         .iter()
-        .filter(|p| residual_and_jacobian(p, &state).0.abs() > OUTLIER_SIGMAS)
+        .filter(|p| residual_and_jacobian(p, state).0.abs() > OUTLIER_SIGMAS)
         .count();
     let inliers_ok = (outliers as f64) <= MAX_OUTLIER_FRACTION * points.len() as f64;
-    (finite && inliers_ok && robust_rms(&points, &state) <= MAX_RMS_SIGMAS).then_some(fit)
+    finite && inliers_ok && robust_rms(points, state) <= MAX_RMS_SIGMAS
 }
 
 /// Where the dome is expected before its points are weighed.

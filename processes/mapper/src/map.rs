@@ -626,5 +626,14 @@ pub fn cloud_slot(robot: Robot) -> usize {
 mod classify;
 
 #[cfg(test)]
+impl FeatureMap {
+    /// A 16 m × 16 m map (origin (−8, −8)) with `config`, the tests' usual ground.
+    pub(crate) fn sixteen_m_square(config: &MapperConfig) -> Self {
+        let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
+        Self::new(config, geometry)
+    }
+}
+
+#[cfg(test)]
 #[path = "map_tests.rs"]
 mod tests;

@@ -14,8 +14,7 @@ fn config() -> MapperConfig {
 /// 16 m × 16 m, origin (−8, −8), 0.5 m cells.
 fn new_map() -> FeatureMap {
     let config = config();
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
-    FeatureMap::new(&config, geometry)
+    FeatureMap::sixteen_m_square(&config)
 }
 
 /// Sloped ground (≈14° along x, ≈6° along y) with a little roughness.
@@ -103,20 +102,22 @@ fn assert_rock_with_ring(map: &FeatureMap) {
     assert_eq!(obstacles, 4);
 }
 
-#[test]
-fn rock_on_slope_without_measured_heights_is_an_obstacle_with_a_ring() {
+/// A 0.6 m rock on a slope, seen twice by `robot`, is an obstacle with its ring.
+fn assert_rock_on_slope_seen_by(robot: Robot, measured_heights: bool) {
     let mut map = new_map();
-    seen_twice(&mut map, Robot::Jumper, &rock_on_slope(0.6, false));
+    seen_twice(&mut map, robot, &rock_on_slope(0.6, measured_heights));
     map.update();
     assert_rock_with_ring(&map);
 }
 
 #[test]
+fn rock_on_slope_without_measured_heights_is_an_obstacle_with_a_ring() {
+    assert_rock_on_slope_seen_by(Robot::Jumper, false);
+}
+
+#[test]
 fn rock_on_slope_with_measured_heights_is_an_obstacle_with_a_ring() {
-    let mut map = new_map();
-    seen_twice(&mut map, Robot::Rover, &rock_on_slope(0.6, true));
-    map.update();
-    assert_rock_with_ring(&map);
+    assert_rock_on_slope_seen_by(Robot::Rover, true);
 }
 
 #[test]
@@ -135,8 +136,7 @@ fn a_per_frame_cell_limit_only_delays_the_same_map() {
         max_cells_per_frame: 50,
         ..config()
     };
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
-    let mut map = FeatureMap::new(&config, geometry);
+    let mut map = FeatureMap::sixteen_m_square(&config);
     seen_twice(&mut map, Robot::Jumper, &rock_on_slope(0.6, false));
     let mut frames = 0;
     loop {
@@ -382,8 +382,7 @@ fn non_finite_and_outside_points_are_counted_and_dropped() {
 #[test]
 fn memory_stays_bounded_over_a_million_points() {
     let config = config();
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
-    let mut map = FeatureMap::new(&config, geometry);
+    let mut map = FeatureMap::sixteen_m_square(&config);
     let bytes = map.memory_bytes();
     let capacities = (map.stats.capacity(), map.ground.samples.capacity());
     let mut noise = Noise(7);
@@ -500,8 +499,7 @@ fn the_rovers_close_look_overrules_a_jumper_rock_and_confirms_a_real_one() {
         rover_overrules_jumper_after: 0,
         ..config()
     };
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("valid");
-    let mut map = FeatureMap::new(&config, geometry);
+    let mut map = FeatureMap::sixteen_m_square(&config);
     seen_twice(&mut map, Robot::Jumper, &jumper_rock);
     map.insert_cloud(Robot::Rover, &bare_ground);
     map.update();

@@ -43,13 +43,7 @@ pub fn for_each_cell_below(
     let [cx, cy, cz] = camera_m;
     let [px, py, pz] = point_m;
     let height_at = |t: f64| cz + (pz - cz) * t - ground_z_m;
-    // Start where the ray first runs below max_height_m (it may start there).
-    let (h0, h1) = (height_at(0.0), height_at(1.0));
-    let t_start = if h0 <= max_height_m {
-        0.0
-    } else if h1 < max_height_m {
-        (h0 - max_height_m) / (h0 - h1)
-    } else {
+    let Some(t_start) = first_below(height_at(0.0), height_at(1.0), max_height_m) else {
         return;
     };
     let (dx, dy) = (px - cx, py - cy);
@@ -64,28 +58,8 @@ pub fn for_each_cell_below(
     let (end_x, end_y) = to_cell(px, py);
     let step_x = dx.signum();
     let step_y = dy.signum();
-    // Ray parameter at the next vertical / horizontal cell boundary, and per cell.
-    let boundary = |i: f64, step: f64, origin: f64| origin + (i + step.max(0.0)) * size;
-    let mut t_max_x = if dx == 0.0 {
-        f64::INFINITY
-    } else {
-        (boundary(ix, step_x, geometry.origin_x_m) - cx) / dx
-    };
-    let mut t_max_y = if dy == 0.0 {
-        f64::INFINITY
-    } else {
-        (boundary(iy, step_y, geometry.origin_y_m) - cy) / dy
-    };
-    let t_delta_x = if dx == 0.0 {
-        f64::INFINITY
-    } else {
-        size / dx.abs()
-    };
-    let t_delta_y = if dy == 0.0 {
-        f64::INFINITY
-    } else {
-        size / dy.abs()
-    };
+    let (mut t_max_x, t_delta_x) = axis_crossings(ix, cx, dx, geometry.origin_x_m, size);
+    let (mut t_max_y, t_delta_y) = axis_crossings(iy, cy, dy, geometry.origin_y_m, size);
     let mut t_enter = t_start;
     // A ray crosses at most this many cells (bounds the loop on any input).
     let max_steps = (end_x - ix).abs() + (end_y - iy).abs() + 2.0;
@@ -110,6 +84,28 @@ pub fn for_each_cell_below(
         t_enter = t_exit;
         steps += 1.0;
     }
+}
+
+/// The ray parameter where a ray whose height above ground runs from `h0` (at 0) to `h1` (at
+/// 1) first runs below `max_height_m` (it may start there); `None` if it never does.
+fn first_below(h0: f64, h1: f64, max_height_m: f64) -> Option<f64> {
+    if h0 <= max_height_m {
+        Some(0.0)
+    } else if h1 < max_height_m {
+        Some((h0 - max_height_m) / (h0 - h1))
+    } else {
+        None
+    }
+}
+
+/// Along one axis, for a ray from `c` with direction component `d` starting in cell `i`: the
+/// ray parameter at the next cell boundary, and between boundaries (infinite for `d = 0`).
+fn axis_crossings(i: f64, c: f64, d: f64, origin: f64, size: f64) -> (f64, f64) {
+    if d == 0.0 {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let boundary = origin + (i + d.signum().max(0.0)) * size;
+    ((boundary - c) / d, size / d.abs())
 }
 
 #[cfg(test)]

@@ -18,8 +18,7 @@ fn config() -> MapperConfig {
 
 fn map() -> FeatureMap {
     let config = config();
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
-    FeatureMap::new(&config, geometry)
+    FeatureMap::sixteen_m_square(&config)
 }
 
 fn point(x: f32, y: f32, z: f32, height_m: f32, sigma_m: f32) -> FeaturePoint {
@@ -260,8 +259,7 @@ fn the_width_prior_puts_a_half_seen_rocks_back_behind_its_face_not_in_front() {
             rock_width_prior: prior,
             ..config()
         };
-        let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
-        let mut map = FeatureMap::new(&config, geometry);
+        let mut map = FeatureMap::sixteen_m_square(&config);
         let near_half = rover_cloud((0.5, 2.0), (-1.0, 1.0), &[([2.0, 0.0], 0.3, 0.3)]);
         for _ in 0..3 {
             map.insert_cloud_seen_from(Robot::Rover, Some([0.0, 0.0, 1.0]), &near_half);
@@ -285,8 +283,7 @@ fn dome_map() -> FeatureMap {
         dome_base_per_height: 1.0,
         ..config()
     };
-    let geometry = config.resolve_geometry((16.0, 16.0)).expect("grid");
-    FeatureMap::new(&config, geometry)
+    FeatureMap::sixteen_m_square(&config)
 }
 
 fn blocks(map: &FeatureMap, x_m: f64, y_m: f64) -> bool {

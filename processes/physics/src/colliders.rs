@@ -221,15 +221,21 @@ mod tests {
     use super::*;
     use rapier3d::prelude::{QueryFilter, Ray};
 
+    /// The default terrain on `size_x_m × size_y_m`, without craters or random rocks.
+    fn bare_world(size_x_m: f64, size_y_m: f64) -> hopnav_world::WorldConfig {
+        let mut cfg = hopnav_world::WorldConfig::default();
+        cfg.terrain.size_x_m = size_x_m;
+        cfg.terrain.size_y_m = size_y_m;
+        cfg.craters.count = 0;
+        cfg.rocks.golombek_k = 0.0;
+        cfg
+    }
+
     #[test]
     fn heightfield_matches_world_heights() {
         // A tilted plane plus one bump at a node: rays straight down hit the world height.
-        let mut cfg = hopnav_world::WorldConfig::default();
-        cfg.terrain.size_x_m = 6.0;
-        cfg.terrain.size_y_m = 4.0;
+        let mut cfg = bare_world(6.0, 4.0);
         cfg.terrain.spacing_m = 0.5;
-        cfg.craters.count = 0;
-        cfg.rocks.golombek_k = 0.0;
         let world = World::generate(&cfg).unwrap();
         let hf = world.terrain();
         let mut pw = PhysicsWorld::new();
@@ -260,11 +266,7 @@ mod tests {
 
     #[test]
     fn rock_hull_covers_its_top() {
-        let mut cfg = hopnav_world::WorldConfig::default();
-        cfg.terrain.size_x_m = 8.0;
-        cfg.terrain.size_y_m = 8.0;
-        cfg.rocks.golombek_k = 0.0;
-        cfg.craters.count = 0;
+        let mut cfg = bare_world(8.0, 8.0);
         cfg.terrain.relief_amplitude_m = 0.0;
         cfg.rocks
             .explicit

@@ -4,6 +4,7 @@ mod common;
 
 use common::{drive, flat_world, physics, run, yaw_of};
 use hopnav_physics::{BlockReason, PhysicsConfig, PhysicsSim, RoverMode};
+use hopnav_world::World;
 use hopnav_world::config::ExplicitRockConfig;
 
 fn rover_cfg(rover_xy: [f64; 2]) -> PhysicsConfig {
@@ -18,6 +19,13 @@ fn rock(x: f64, y: f64, diameter_m: f64, height_m: f64) -> ExplicitRockConfig {
         diameter_m,
         height_m: Some(height_m),
     }
+}
+
+/// The rover at (−5, −3), 4.5 m short of a 0.5 m tall boulder on its way east.
+fn rover_before_a_tall_rock() -> (World, PhysicsSim) {
+    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0, 1.0, 0.5)]);
+    let sim = PhysicsSim::new(&world, &rover_cfg([-5.0, -3.0]), 3).unwrap();
+    (world, sim)
 }
 
 #[test]
@@ -85,9 +93,7 @@ fn turns_on_the_spot() {
 #[test]
 fn tall_rock_blocks_and_counts_a_collision() {
     // 0.5 m tall boulder on the path (max climbable 0.2 m).
-    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0, 1.0, 0.5)]);
-    let cfg = rover_cfg([-5.0, -3.0]);
-    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let (world, mut sim) = rover_before_a_tall_rock();
     let outs = run(&mut sim, 300, drive([5.0, -3.0], 0.5));
     let last = outs.last().unwrap();
     eprintln!(
@@ -108,9 +114,7 @@ fn tall_rock_blocks_and_counts_a_collision() {
 
 #[test]
 fn a_blocked_rover_backs_away_rear_first_and_can_then_turn() {
-    let world = flat_world(32.0, 16.0, &[rock(0.0, -3.0, 1.0, 0.5)]);
-    let cfg = rover_cfg([-5.0, -3.0]);
-    let mut sim = PhysicsSim::new(&world, &cfg, 3).unwrap();
+    let (_, mut sim) = rover_before_a_tall_rock();
     let blocked = run(&mut sim, 300, drive([5.0, -3.0], 0.5));
     let against_x_m = blocked.last().unwrap().rover.position_m[0];
     let yaw_rad = yaw_of(blocked.last().unwrap().rover.orientation_xyzw);

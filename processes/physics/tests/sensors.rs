@@ -7,6 +7,14 @@ use hopnav_physics::config::AltimeterConfig;
 use hopnav_physics::sensors::Altimeter;
 use hopnav_physics::{FrameInputs, PhysicsSim};
 
+/// The rover at (−10, 3) and the jumper at (0, −2) on flat ground, no hop at the start.
+fn rover_beside_a_resting_jumper() -> PhysicsSim {
+    let world = flat_world(32.0, 12.0, &[]);
+    let mut cfg = physics([-10.0, 3.0], [0.0, -2.0]);
+    cfg.jumper.initial_hop = false;
+    PhysicsSim::new(&world, &cfg, 4).unwrap()
+}
+
 #[test]
 fn altimeter_noise_matches_sigma() {
     let cfg = AltimeterConfig::default();
@@ -53,10 +61,7 @@ fn altimeter_in_the_sim_tracks_the_jumper() {
 
 #[test]
 fn imu_at_rest_reads_plus_g_up() {
-    let world = flat_world(32.0, 12.0, &[]);
-    let mut cfg = physics([-10.0, 3.0], [0.0, -2.0]);
-    cfg.jumper.initial_hop = false;
-    let mut sim = PhysicsSim::new(&world, &cfg, 4).unwrap();
+    let mut sim = rover_beside_a_resting_jumper();
     let n = 200;
     let mut f = [0.0; 3];
     let mut w = [0.0; 3];
@@ -75,10 +80,7 @@ fn imu_at_rest_reads_plus_g_up() {
 
 #[test]
 fn imu_sees_the_turn() {
-    let world = flat_world(32.0, 12.0, &[]);
-    let mut cfg = physics([-10.0, 3.0], [0.0, -2.0]);
-    cfg.jumper.initial_hop = false;
-    let mut sim = PhysicsSim::new(&world, &cfg, 4).unwrap();
+    let mut sim = rover_beside_a_resting_jumper();
     let inputs = common::drive([0.0, 5.0], 0.5);
     let outs: Vec<_> = (0..40).map(|_| sim.step_frame(&inputs)).collect();
     let max_rate = outs

@@ -166,6 +166,20 @@ impl Neighbourhood {
         neighbourhood
     }
 
+    /// The neighbours that may move into the centre cell, as `(cell, row-major index, cost of
+    /// that move)`; entering the centre costs `entry_extra` on top of the move's base cost.
+    pub fn predecessors(&self, entry_extra: Cost) -> impl Iterator<Item = (Cell, usize, Cost)> {
+        (0..8)
+            .filter(|&direction| self.allowed[direction])
+            .map(move |direction| {
+                (
+                    self.cells[direction],
+                    self.indices[direction],
+                    BASE_COSTS[direction] + entry_extra,
+                )
+            })
+    }
+
     /// Cost of the move in `direction` out of the centre cell, [`INFINITE_COST`] if not
     /// allowed.
     pub fn out_cost(&self, grid: &Grid, direction: usize) -> Cost {

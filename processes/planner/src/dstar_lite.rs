@@ -49,7 +49,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::cost::{BASE_COSTS, Cost, INFINITE_COST, Neighbourhood, add_cost, octile_distance};
+use crate::cost::{Cost, INFINITE_COST, Neighbourhood, add_cost, octile_distance};
 use crate::grid::{Cell, CellChange, Grid, GridError};
 use crate::plan::{PlanError, PlanStats, PlannerCounters};
 use crate::queue::{Key, KeyedQueue};
@@ -327,14 +327,9 @@ impl DStarLite {
         let vertex_g = self.g[vertex_index];
         let entry_extra = Cost::from(self.grid.extra_cost_at(vertex_index));
         let block = Neighbourhood::of(&self.grid, vertex);
-        for (direction, base_cost) in BASE_COSTS.iter().enumerate() {
-            if !block.allowed[direction] {
-                continue;
-            }
-            let predecessor_index = block.indices[direction];
-            let predecessor = block.cells[direction];
+        for (predecessor, predecessor_index, edge_cost) in block.predecessors(entry_extra) {
             if predecessor != self.goal {
-                let via_vertex = add_cost(base_cost + entry_extra, vertex_g);
+                let via_vertex = add_cost(edge_cost, vertex_g);
                 if via_vertex < self.rhs[predecessor_index] {
                     self.rhs[predecessor_index] = via_vertex;
                 }
@@ -347,13 +342,8 @@ impl DStarLite {
     fn raise_predecessors(&mut self, vertex: Cell, vertex_index: usize, old_g: Cost) {
         let entry_extra = Cost::from(self.grid.extra_cost_at(vertex_index));
         let block = Neighbourhood::of(&self.grid, vertex);
-        for (direction, base_cost) in BASE_COSTS.iter().enumerate() {
-            if !block.allowed[direction] {
-                continue;
-            }
-            let predecessor_index = block.indices[direction];
-            let predecessor = block.cells[direction];
-            let via_vertex = add_cost(base_cost + entry_extra, old_g);
+        for (predecessor, predecessor_index, edge_cost) in block.predecessors(entry_extra) {
+            let via_vertex = add_cost(edge_cost, old_g);
             if predecessor != self.goal && self.rhs[predecessor_index] == via_vertex {
                 self.rhs[predecessor_index] = self.min_successor_cost(predecessor);
             }

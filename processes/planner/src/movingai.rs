@@ -213,6 +213,32 @@ pub struct Scenario {
 /// Parses a `.map` file's bytes into a grid (passable cells become [`CellState::Free`]).
 pub fn parse_map(bytes: &[u8]) -> Result<Grid, MapParseError> {
     let mut lines = numbered_lines(bytes);
+    let (width, height) = parse_map_header(&mut lines)?;
+    let rows = collect_map_rows(lines, width, height)?;
+    let mut grid = Grid::new(width, height, CellState::Free)?;
+    for (y, (line, raw)) in rows.into_iter().enumerate() {
+        for (x, &byte) in raw.iter().enumerate() {
+            let state = terrain_state(byte).ok_or(MapParseError::BadTerrain {
+                line,
+                column: x + 1,
+                character: if byte.is_ascii() {
+                    char::from(byte)
+                } else {
+                    char::REPLACEMENT_CHARACTER
+                },
+            })?;
+            if state == CellState::Obstacle {
+                grid.set(Cell::new(x as u32, y as u32), state, 0)?;
+            }
+        }
+    }
+    Ok(grid)
+}
+
+/// Reads the header up to and including its `map` line; returns `(width, height)`.
+fn parse_map_header<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a [u8])>,
+) -> Result<(u32, u32), MapParseError> {
     let mut height = None;
     let mut width = None;
     let mut last_line = 0;
@@ -261,9 +287,19 @@ pub fn parse_map(bytes: &[u8]) -> Result<Grid, MapParseError> {
             expected: missing_header_item(height, width),
         });
     };
-    // Collect rows before allocating, so a lying header cannot force a huge allocation.
+    Ok((width, height))
+}
+
+/// The `height` rows of `width` bytes after the header, with their line numbers; only blank
+/// lines may follow. Rows are collected before the grid is allocated, so a lying header
+/// cannot force a huge allocation.
+fn collect_map_rows<'a>(
+    lines: impl Iterator<Item = (usize, &'a [u8])>,
+    width: u32,
+    height: u32,
+) -> Result<Vec<(usize, &'a [u8])>, MapParseError> {
     let mut rows = Vec::new();
-    for (line, raw) in lines.by_ref() {
+    for (line, raw) in lines {
         if rows.len() == height as usize {
             if !raw.iter().all(u8::is_ascii_whitespace) {
                 return Err(MapParseError::TrailingContent { line });
@@ -286,24 +322,7 @@ pub fn parse_map(bytes: &[u8]) -> Result<Grid, MapParseError> {
             found: rows.len(),
         });
     }
-    let mut grid = Grid::new(width, height, CellState::Free)?;
-    for (y, (line, raw)) in rows.into_iter().enumerate() {
-        for (x, &byte) in raw.iter().enumerate() {
-            let state = terrain_state(byte).ok_or(MapParseError::BadTerrain {
-                line,
-                column: x + 1,
-                character: if byte.is_ascii() {
-                    char::from(byte)
-                } else {
-                    char::REPLACEMENT_CHARACTER
-                },
-            })?;
-            if state == CellState::Obstacle {
-                grid.set(Cell::new(x as u32, y as u32), state, 0)?;
-            }
-        }
-    }
-    Ok(grid)
+    Ok(rows)
 }
 
 /// Parses a version-1 `.scen` file's bytes.
@@ -343,11 +362,7 @@ pub fn parse_scen(bytes: &[u8]) -> Result<Vec<Scenario>, ScenParseError> {
 
 /// Reads and parses a `.map` file.
 pub fn load_map(path: &Path) -> Result<Grid, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_map(&bytes).map_err(|source| LoadError::Map {
+    parse_map(&read(path)?).map_err(|source| LoadError::Map {
         path: path.to_path_buf(),
         source,
     })
@@ -355,11 +370,14 @@ pub fn load_map(path: &Path) -> Result<Grid, LoadError> {
 
 /// Reads and parses a `.scen` file.
 pub fn load_scen(path: &Path) -> Result<Vec<Scenario>, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+    parse_scen(&read(path)?).map_err(|source| LoadError::Scen {
         path: path.to_path_buf(),
         source,
-    })?;
-    parse_scen(&bytes).map_err(|source| LoadError::Scen {
+    })
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, LoadError> {
+    std::fs::read(path).map_err(|source| LoadError::Io {
         path: path.to_path_buf(),
         source,
     })

@@ -61,17 +61,17 @@ fn cost_tolerance_accepts_rounding_and_rejects_real_differences() {
     assert!(!cost_matches_optimal_length(0, f64::NAN));
 }
 
+/// Each input fails to parse with its error, which has a message.
+fn assert_map_errors(cases: &[(&[u8], MapParseError)]) {
+    for (input, expected) in cases {
+        assert_eq!(parse_map(input), Err(expected.clone()));
+        assert!(!expected.to_string().is_empty());
+    }
+}
+
 #[test]
-fn map_errors_name_the_line_and_problem() {
-    let cases: [(&[u8], MapParseError); 10] = [
-        (
-            b"type octile\nheight 1\nwidth 2\nmap\n.x\n",
-            MapParseError::BadTerrain {
-                line: 5,
-                column: 2,
-                character: 'x',
-            },
-        ),
+fn header_errors_name_the_line_and_problem() {
+    assert_map_errors(&[
         (
             b"type hex\nheight 1\nwidth 1\nmap\n.\n",
             MapParseError::UnsupportedType {
@@ -86,25 +86,6 @@ fn map_errors_name_the_line_and_problem() {
                 key: "height",
                 value: "-3".into(),
             },
-        ),
-        (
-            b"type octile\nheight 2\nwidth 3\nmap\n...\n..\n",
-            MapParseError::WrongRowLength {
-                line: 6,
-                expected: 3,
-                found: 2,
-            },
-        ),
-        (
-            b"type octile\nheight 3\nwidth 1\nmap\n.\n.\n",
-            MapParseError::MissingRows {
-                expected: 3,
-                found: 2,
-            },
-        ),
-        (
-            b"type octile\nheight 1\nwidth 1\nmap\n.\n@\n",
-            MapParseError::TrailingContent { line: 6 },
         ),
         (
             b"type octile\nwidth 1\nmap\n.\n",
@@ -127,6 +108,43 @@ fn map_errors_name_the_line_and_problem() {
                 text: "banana split".into(),
             },
         ),
+    ]);
+    assert_eq!(
+        parse_map(b"type \xc3\x28 octile\n"),
+        Err(MapParseError::InvalidUtf8 { line: 1 })
+    );
+}
+
+#[test]
+fn row_errors_name_the_line_and_problem() {
+    assert_map_errors(&[
+        (
+            b"type octile\nheight 1\nwidth 2\nmap\n.x\n",
+            MapParseError::BadTerrain {
+                line: 5,
+                column: 2,
+                character: 'x',
+            },
+        ),
+        (
+            b"type octile\nheight 2\nwidth 3\nmap\n...\n..\n",
+            MapParseError::WrongRowLength {
+                line: 6,
+                expected: 3,
+                found: 2,
+            },
+        ),
+        (
+            b"type octile\nheight 3\nwidth 1\nmap\n.\n.\n",
+            MapParseError::MissingRows {
+                expected: 3,
+                found: 2,
+            },
+        ),
+        (
+            b"type octile\nheight 1\nwidth 1\nmap\n.\n@\n",
+            MapParseError::TrailingContent { line: 6 },
+        ),
         (
             b"type octile\nheight 1\nwidth 1\nmap\n\xff\n",
             MapParseError::BadTerrain {
@@ -135,15 +153,7 @@ fn map_errors_name_the_line_and_problem() {
                 character: char::REPLACEMENT_CHARACTER,
             },
         ),
-    ];
-    for (input, expected) in cases {
-        assert_eq!(parse_map(input), Err(expected.clone()));
-        assert!(!expected.to_string().is_empty());
-    }
-    assert_eq!(
-        parse_map(b"type \xc3\x28 octile\n"),
-        Err(MapParseError::InvalidUtf8 { line: 1 })
-    );
+    ]);
 }
 
 #[test]

@@ -149,10 +149,7 @@ impl RoverVoConfig {
         KEYS.real("ground_keep_fraction", self.ground_keep_fraction, 0.2, 1.0)?;
         KEYS.real("start_ground_z_m", self.start_ground_z_m, -1e4, 1e4)?;
         if let Some(xy) = self.start_xy_m {
-            for v in xy {
-                KEYS.real("start_xy_m", v, -1e5, 1e5)
-                    .map_err(|rejected| rejected.noted("per axis"))?;
-            }
+            KEYS.per_axis("start_xy_m", &xy, -1e5, 1e5)?;
         }
         Ok(())
     }

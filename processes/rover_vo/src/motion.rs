@@ -13,10 +13,11 @@
 
 use hopnav_vision::ransac::{Ransac, RansacConfig, RansacProblem};
 use nalgebra::{
-    Isometry3, Matrix3, Matrix6, Point2, Point3, Rotation3, SMatrix, SVector, Translation3,
-    UnitQuaternion, Vector3, Vector6,
+    Isometry3, Matrix3, Point2, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
 };
-use std::ops::AddAssign;
+
+mod refine;
+pub use refine::refine;
 
 /// Intrinsics used for reprojection.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -328,127 +329,6 @@ impl MotionEstimator {
             }
         }
     }
-}
-
-/// Gauss–Newton with Huber weights (1 px) on the reprojection error of `inliers`.
-/// With a [`Tilt`] without prior σ only yaw about world z and translation change; with a σ the
-/// refinement is 6-DOF with a gravity-direction prior; without a tilt it is 6-DOF.
-/// Returns the pose and the RMS reprojection error.
-pub fn refine(
-    data: &[Correspondence],
-    inliers: &[usize],
-    mut pose: Isometry3<f64>,
-    body_from_camera: &Isometry3<f64>,
-    intrinsics: &Intrinsics,
-    tilt: Option<Tilt>,
-    iterations: usize,
-) -> (Isometry3<f64>, f64) {
-    let four_dof = matches!(
-        tilt,
-        Some(Tilt {
-            prior_sigma_rad: None,
-            ..
-        })
-    );
-    let prior = tilt.and_then(|t| {
-        t.prior_sigma_rad
-            .filter(|s| s.is_finite() && *s > 0.0)
-            .map(|s| ((0.5 / s).powi(2), t.leveling.inverse() * Vector3::z()))
-    });
-    let huber_px = 1.0;
-    let camera_from_body = body_from_camera.inverse();
-    let mut rms = f64::NAN;
-    for _ in 0..iterations {
-        let mut h = Matrix6::<f64>::zeros();
-        let mut g = Vector6::<f64>::zeros();
-        let mut sum_sq = 0.0;
-        let mut n = 0usize;
-        let r_t = pose.rotation.inverse().to_rotation_matrix().into_inner();
-        let c = camera_from_body.rotation.to_rotation_matrix().into_inner();
-        for &i in inliers {
-            let d = &data[i];
-            let x_minus_t = d.point_world_m.coords - pose.translation.vector;
-            let q = r_t * x_minus_t;
-            let p = camera_from_body * Point3::from(q);
-            if p.z <= 0.05 {
-                continue;
-            }
-            let (iz, iz2) = (1.0 / p.z, 1.0 / (p.z * p.z));
-            let u = intrinsics.fx_px * p.x * iz + intrinsics.cx_px;
-            let v = intrinsics.fy_px * p.y * iz + intrinsics.cy_px;
-            let e = nalgebra::Vector2::new(u - d.pixel.x, v - d.pixel.y);
-            let j_proj = SMatrix::<f64, 2, 3>::new(
-                intrinsics.fx_px * iz,
-                0.0,
-                -intrinsics.fx_px * p.x * iz2,
-                0.0,
-                intrinsics.fy_px * iz,
-                -intrinsics.fy_px * p.y * iz2,
-            );
-            let jq = j_proj * c;
-            let j_omega = jq * r_t * x_minus_t.cross_matrix();
-            let j_t = -(jq * r_t);
-            let mut j = SMatrix::<f64, 2, 6>::zeros();
-            j.fixed_view_mut::<2, 3>(0, 0).copy_from(&j_omega);
-            j.fixed_view_mut::<2, 3>(0, 3).copy_from(&j_t);
-            let norm = e.norm();
-            let w = if norm <= huber_px {
-                1.0
-            } else {
-                huber_px / norm
-            };
-            h += w * j.transpose() * j;
-            g += w * j.transpose() * e;
-            sum_sq += norm * norm;
-            n += 1;
-        }
-        if n < 3 {
-            break;
-        }
-        rms = (sum_sq / n as f64).sqrt();
-        if let Some((weight, gravity_body)) = prior {
-            // e = Rᵀẑ − g_imu; ∂e/∂δω = Rᵀ[ẑ]ₓ.
-            let e = r_t * Vector3::z() - gravity_body;
-            let j = r_t * Vector3::z().cross_matrix();
-            h.fixed_view_mut::<3, 3>(0, 0)
-                .add_assign(&(weight * j.transpose() * j));
-            let gr = weight * j.transpose() * e;
-            for k in 0..3 {
-                g[k] += gr[k];
-            }
-        }
-        let step: Vector6<f64> = if four_dof {
-            let idx = [2usize, 3, 4, 5];
-            let mut h4 = SMatrix::<f64, 4, 4>::zeros();
-            let mut g4 = SVector::<f64, 4>::zeros();
-            for (a, &ia) in idx.iter().enumerate() {
-                g4[a] = g[ia];
-                for (b, &ib) in idx.iter().enumerate() {
-                    h4[(a, b)] = h[(ia, ib)];
-                }
-            }
-            let Some(s4) = h4.cholesky().map(|ch| ch.solve(&(-g4))) else {
-                break;
-            };
-            Vector6::new(0.0, 0.0, s4[0], s4[1], s4[2], s4[3])
-        } else {
-            let Some(s) = h.cholesky().map(|ch| ch.solve(&(-g))) else {
-                break;
-            };
-            s
-        };
-        if !step.iter().all(|v| v.is_finite()) {
-            break;
-        }
-        let omega = Vector3::new(step[0], step[1], step[2]);
-        let rotation = UnitQuaternion::from_scaled_axis(omega) * pose.rotation;
-        let translation = pose.translation.vector + Vector3::new(step[3], step[4], step[5]);
-        pose = Isometry3::from_parts(Translation3::from(translation), rotation);
-        if omega.norm() < 1e-8 && step.fixed_rows::<3>(3).norm() < 1e-7 {
-            break;
-        }
-    }
-    (pose, rms)
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@
 
 use crate::config::RoverVoConfig;
 use crate::ground::{GroundModel, LocalGround};
-use crate::motion::{Correspondence, Intrinsics, MotionEstimator, Tilt};
+use crate::motion::{Correspondence, Intrinsics, MotionEstimate, MotionEstimator, Tilt};
 use crate::stereo::{StereoMatcher, StereoParams};
 use hopnav_vision::corners::{Corner, CornerConfig, CornerDetector, CornerError};
 use hopnav_vision::image::ImageView;
@@ -133,6 +133,16 @@ pub struct CloudPoint {
     pub depth_sigma_m: f64,
     /// Track id.
     pub track_id: u32,
+}
+
+/// The pose expected for a frame before vision, from the IMU and the last motion.
+struct Prediction {
+    /// Predicted `world_from_body` (the tracker's initial guess).
+    predicted: Isometry3<f64>,
+    /// What the pose becomes without vision: predicted attitude, position held.
+    held: Isometry3<f64>,
+    /// IMU roll and pitch for the motion estimate, if used.
+    tilt: Option<Tilt>,
 }
 
 /// The stereo VO.
@@ -301,18 +311,33 @@ impl RoverVo {
     }
 
     fn clear_tracks(&mut self) {
-        self.track_px.clear();
-        self.track_world.clear();
-        self.track_sigma_m.clear();
-        self.track_id.clear();
+        self.truncate_tracks(0);
     }
 
     /// Processes one stereo frame.
     pub fn process_frame(&mut self, frame: &StereoFrame<'_>) -> VoOutput {
-        let imu = frame
-            .imu_attitude
-            .filter(|q| q.coords.iter().all(|v| v.is_finite()));
-        // Prediction: IMU relative rotation (or last motion), constant velocity translation.
+        let prediction = self.predict(frame.imu_attitude);
+        if self.pyr_cur.build(&frame.left).is_err() {
+            let mut out = self.propagate(prediction.held, 0);
+            out.rejection = Some(Rejection::BadImage);
+            return out;
+        }
+        let tracked = self.track(&prediction.predicted);
+        self.stereo_tracks(frame, &prediction.predicted);
+        let mut output = match self.vision_estimate(prediction.tilt, tracked) {
+            Ok(m) => self.accept(m, tracked),
+            Err(rejection) => self.lose(prediction.held, tracked, rejection),
+        };
+        self.keyframe_if_needed(frame, &mut output);
+        std::mem::swap(&mut self.pyr_prev, &mut self.pyr_cur);
+        self.have_prev = true;
+        output.world_from_body = self.world_from_body;
+        output
+    }
+
+    /// Prediction: IMU relative rotation (or last motion), constant velocity translation.
+    fn predict(&mut self, imu_attitude: Option<UnitQuaternion<f64>>) -> Prediction {
+        let imu = imu_attitude.filter(|q| q.coords.iter().all(|v| v.is_finite()));
         let delta_rotation = match (self.imu_prev, imu) {
             (Some(prev), Some(now)) => prev.inverse() * now,
             _ => self.last_motion.rotation,
@@ -333,105 +358,111 @@ impl RoverVo {
             None
         };
         let held = Isometry3::from_parts(self.world_from_body.translation, predicted.rotation);
-
-        if self.pyr_cur.build(&frame.left).is_err() {
-            let mut out = self.propagate(held, 0);
-            out.rejection = Some(Rejection::BadImage);
-            return out;
+        Prediction {
+            predicted,
+            held,
+            tilt,
         }
-        let tracked = self.track(&predicted);
-        self.stereo_tracks(frame, &predicted);
-        let estimate = if self.track_px.is_empty() {
-            Err(Rejection::NoMap)
-        } else if self.corrs.len() < self.config.min_inliers {
-            Err(Rejection::TooFewTracks)
+    }
+
+    /// The motion of this frame from the stereo-matched tracks, if there are enough of them and
+    /// the estimate is plausible.
+    fn vision_estimate(
+        &mut self,
+        tilt: Option<Tilt>,
+        tracked: usize,
+    ) -> Result<MotionEstimate, Rejection> {
+        if self.track_px.is_empty() {
+            return Err(Rejection::NoMap);
+        }
+        if self.corrs.len() < self.config.min_inliers {
+            return Err(Rejection::TooFewTracks);
+        }
+        let m = self
+            .motion
+            .estimate(
+                &self.corrs,
+                &self.rig.body_from_camera,
+                &self.rig.intrinsics,
+                tilt,
+            )
+            .map_err(Rejection::Motion)?;
+        let step_m =
+            (m.world_from_body.translation.vector - self.world_from_body.translation.vector).norm();
+        if m.inliers < self.config.min_inliers {
+            Err(Rejection::FewInliers)
+        } else if (m.inliers as f64) < self.config.min_inlier_ratio * tracked as f64 {
+            Err(Rejection::LowInlierRatio)
+        } else if step_m >= 2.0 {
+            Err(Rejection::ImplausibleStep)
         } else {
-            self.motion
-                .estimate(
-                    &self.corrs,
-                    &self.rig.body_from_camera,
-                    &self.rig.intrinsics,
-                    tilt,
-                )
-                .map_err(Rejection::Motion)
+            Ok(m)
+        }
+    }
+
+    /// Takes the vision estimate `m` as the pose and keeps its inliers as the map.
+    fn accept(&mut self, m: MotionEstimate, tracked: usize) -> VoOutput {
+        self.last_motion = self.world_from_body.inverse() * m.world_from_body;
+        self.world_from_body = m.world_from_body;
+        self.keep_inliers();
+        VoOutput {
+            rejection: None,
+            world_from_body: m.world_from_body,
+            confidence: (0.5
+                + 0.5 * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
+            .min(1.0),
+            status: VoStatus::Tracking,
+            tracked_features: tracked,
+            inliers: m.inliers,
+            is_keyframe: false,
+        }
+    }
+
+    /// Lost (or never had a map): drop the map, hold the position.
+    fn lose(&mut self, held: Isometry3<f64>, tracked: usize, rejection: Rejection) -> VoOutput {
+        let had_map = !self.track_px.is_empty();
+        self.clear_tracks();
+        self.world_from_body = held;
+        self.last_motion = Isometry3::identity();
+        let mut out = self.propagate(held, tracked);
+        out.rejection = Some(rejection);
+        out.status = if had_map {
+            VoStatus::Propagated
+        } else {
+            out.status
         };
-        let accepted = estimate.and_then(|m| {
-            let step_m = (m.world_from_body.translation.vector
-                - self.world_from_body.translation.vector)
-                .norm();
-            if m.inliers < self.config.min_inliers {
-                Err(Rejection::FewInliers)
-            } else if (m.inliers as f64) < self.config.min_inlier_ratio * tracked as f64 {
-                Err(Rejection::LowInlierRatio)
-            } else if step_m >= 2.0 {
-                Err(Rejection::ImplausibleStep)
-            } else {
-                Ok(m)
-            }
-        });
-        let mut output = match accepted {
-            Ok(m) => {
-                self.last_motion = self.world_from_body.inverse() * m.world_from_body;
-                self.world_from_body = m.world_from_body;
-                self.keep_inliers();
-                VoOutput {
-                    rejection: None,
-                    world_from_body: m.world_from_body,
-                    confidence: (0.5
-                        + 0.5
-                            * (m.inliers as f64 / (4.0 * self.config.min_inliers as f64)).min(1.0))
-                    .min(1.0),
-                    status: VoStatus::Tracking,
-                    tracked_features: tracked,
-                    inliers: m.inliers,
-                    is_keyframe: false,
-                }
-            }
-            Err(rejection) => {
-                // Lost (or never had a map): drop the map, hold the position.
-                let had_map = !self.track_px.is_empty();
-                self.clear_tracks();
-                self.world_from_body = held;
-                self.last_motion = Isometry3::identity();
-                let mut out = self.propagate(held, tracked);
-                out.rejection = Some(rejection);
-                out.status = if had_map {
-                    VoStatus::Propagated
-                } else {
-                    out.status
-                };
-                out
-            }
-        };
+        out
+    }
+
+    /// Adds a keyframe when the map is thin or the rover has moved enough since the last one,
+    /// (re)building the map when it was empty.
+    fn keyframe_if_needed(&mut self, frame: &StereoFrame<'_>, output: &mut VoOutput) {
         let moved = self.keyframe_pose.inverse() * self.world_from_body;
         let need_keyframe = self.track_px.len() < self.config.keyframe_min_tracks
             || moved.translation.vector.norm() > self.config.keyframe_max_translation_m
             || moved.rotation.angle() > self.config.keyframe_max_rotation_rad;
-        if need_keyframe {
-            let was_empty = self.track_px.is_empty();
-            let added = self.add_keyframe_points(frame);
-            if was_empty && self.track_px.len() < self.config.min_inliers {
-                // Not enough texture to (re)build the map: stay propagated.
-                self.clear_tracks();
-            } else if added > 0 || !was_empty {
-                self.keyframe_pose = self.world_from_body;
-                output.is_keyframe = true;
-                if was_empty {
-                    output.status = VoStatus::Initialized;
-                    if self.next_id == added as u32 {
-                        // First map, at the known start pose: trusted. After a loss the
-                        // position is still the held one, so confidence stays low until the
-                        // next frame is tracked.
-                        output.confidence = output.confidence.max(0.5);
-                    }
-                }
-                self.build_cloud();
-            }
+        if !need_keyframe {
+            return;
         }
-        std::mem::swap(&mut self.pyr_prev, &mut self.pyr_cur);
-        self.have_prev = true;
-        output.world_from_body = self.world_from_body;
-        output
+        let was_empty = self.track_px.is_empty();
+        let added = self.add_keyframe_points(frame);
+        if was_empty && self.track_px.len() < self.config.min_inliers {
+            // Not enough texture to (re)build the map: stay propagated.
+            self.clear_tracks();
+        } else if added > 0 || !was_empty {
+            self.keyframe_pose = self.world_from_body;
+            output.is_keyframe = true;
+            if was_empty {
+                output.status = VoStatus::Initialized;
+                if self.next_id == added as u32 {
+                    // First map, at the known start pose: trusted. After a loss the
+                    // position is still the held one, so confidence stays low until the
+                    // next frame is tracked.
+                    output.confidence = output.confidence.max(0.5);
+                }
+            }
+            self.build_cloud();
+        }
     }
 
     fn propagate(&mut self, held: Isometry3<f64>, tracked: usize) -> VoOutput {

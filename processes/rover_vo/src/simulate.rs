@@ -18,7 +18,7 @@ use crate::motion::Intrinsics;
 use crate::pipeline::StereoRig;
 use hopnav_robot::camera::{CameraMount, CameraRig};
 use hopnav_vision::rng::XorShiftRng;
-use hopnav_world::camera::CameraConfig;
+use hopnav_world::camera::{CameraConfig, PinholeCamera};
 use hopnav_world::raster::{RenderConfig, RenderScene, Renderer};
 use hopnav_world::{World, WorldConfig};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -189,36 +189,13 @@ fn path_samples(cfg: &TraverseConfig) -> Vec<(f64, f64, f64)> {
 
 /// Renders the traverse of `cfg`.
 pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimError> {
-    let bad = |key, message: String| Err(SimError::BadParameter { key, message });
-    if cfg.waypoints_xy_m.len() < 2 {
-        return bad("waypoints_xy_m", "needs at least two waypoints".into());
-    }
-    for (key, v) in [
-        ("fps", cfg.fps),
-        ("speed_mps", cfg.speed_mps),
-        ("yaw_rate_radps", cfg.yaw_rate_radps),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return bad(key, format!("must be finite and > 0, got {v}"));
-        }
-    }
+    check_traverse(cfg)?;
     let world = World::generate(&cfg.world)?;
     let mut renderer = Renderer::new(&cfg.camera, &cfg.render)?;
     let scene = RenderScene::new(&world)?;
     renderer.prepare(&scene);
     let wc = *renderer.camera();
-    let rig = StereoRig {
-        width_px: wc.width_px,
-        height_px: wc.height_px,
-        intrinsics: Intrinsics {
-            fx_px: wc.fx_px,
-            fy_px: wc.fy_px,
-            cx_px: wc.cx_px,
-            cy_px: wc.cy_px,
-        },
-        baseline_m: cfg.baseline_m,
-        body_from_camera: cfg.mount.body_from_left_camera(cfg.baseline_m),
-    };
+    let rig = rig_of(&wc, cfg);
     let (w, h) = (wc.width_px as usize, wc.height_px as usize);
     let mut samples = path_samples(cfg);
     if let Some(max) = cfg.max_frames {
@@ -241,11 +218,7 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
     for (k, &(x, y, yaw)) in samples.iter().enumerate() {
         let t = k as f64 / cfg.fps;
         let body = body_on_terrain(&world, x, y, yaw, cfg.body_height_m);
-        for rock in world.rocks() {
-            let d = ((rock.center_m[0] - x).powi(2) + (rock.center_m[1] - y).powi(2)).sqrt()
-                - 0.5 * rock.diameter_m;
-            out.min_rock_clearance_m = out.min_rock_clearance_m.min(d);
-        }
+        out.min_rock_clearance_m = out.min_rock_clearance_m.min(rock_clearance_m(&world, x, y));
         let mut left = vec![0u8; w * h];
         let mut right = vec![0u8; w * h];
         if !cfg.blackout_frames.contains(&k) {
@@ -259,16 +232,69 @@ pub fn simulate_traverse(cfg: &TraverseConfig) -> Result<SimulatedTraverse, SimE
                 w,
             )?;
         }
-        let noise =
-            Vector3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * cfg.imu_noise_rad;
-        let drift =
-            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), cfg.imu_yaw_drift_radps * t);
         out.imu_attitude
-            .push(drift * body.rotation * UnitQuaternion::from_scaled_axis(noise));
+            .push(imu_attitude(&mut rng, &body.rotation, t, cfg));
         out.t_s.push(t);
         out.left.push(left);
         out.right.push(right);
         out.truth_world_from_body.push(body);
     }
     Ok(out)
+}
+
+/// Refuses a traverse without a path or with a rate that is not positive.
+fn check_traverse(cfg: &TraverseConfig) -> Result<(), SimError> {
+    let bad = |key, message: String| Err(SimError::BadParameter { key, message });
+    if cfg.waypoints_xy_m.len() < 2 {
+        return bad("waypoints_xy_m", "needs at least two waypoints".into());
+    }
+    for (key, v) in [
+        ("fps", cfg.fps),
+        ("speed_mps", cfg.speed_mps),
+        ("yaw_rate_radps", cfg.yaw_rate_radps),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return bad(key, format!("must be finite and > 0, got {v}"));
+        }
+    }
+    Ok(())
+}
+
+/// The stereo rig of the rendering camera `wc` on the configured mount and baseline.
+fn rig_of(wc: &PinholeCamera, cfg: &TraverseConfig) -> StereoRig {
+    StereoRig {
+        width_px: wc.width_px,
+        height_px: wc.height_px,
+        intrinsics: Intrinsics {
+            fx_px: wc.fx_px,
+            fy_px: wc.fy_px,
+            cx_px: wc.cx_px,
+            cy_px: wc.cy_px,
+        },
+        baseline_m: cfg.baseline_m,
+        body_from_camera: cfg.mount.body_from_left_camera(cfg.baseline_m),
+    }
+}
+
+/// Horizontal distance from `(x, y)` to the nearest rock's edge, metres.
+fn rock_clearance_m(world: &World, x: f64, y: f64) -> f64 {
+    let mut clearance_m = f64::INFINITY;
+    for rock in world.rocks() {
+        let d = ((rock.center_m[0] - x).powi(2) + (rock.center_m[1] - y).powi(2)).sqrt()
+            - 0.5 * rock.diameter_m;
+        clearance_m = clearance_m.min(d);
+    }
+    clearance_m
+}
+
+/// The IMU's attitude at `t`: the true one with white noise and a yaw drift.
+fn imu_attitude(
+    rng: &mut XorShiftRng,
+    truth: &UnitQuaternion<f64>,
+    t: f64,
+    cfg: &TraverseConfig,
+) -> UnitQuaternion<f64> {
+    let noise = Vector3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * cfg.imu_noise_rad;
+    let drift = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), cfg.imu_yaw_drift_radps * t);
+    drift * truth * UnitQuaternion::from_scaled_axis(noise)
 }

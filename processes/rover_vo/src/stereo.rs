@@ -204,8 +204,32 @@ impl StereoMatcher {
         v_px: f32,
         range_px: Option<(f64, f64)>,
     ) -> Result<StereoPoint, NoMatch> {
-        let p = self.params;
-        let r = p.patch_radius_px as isize;
+        let xl = self.feature_column(left, right, u_px, v_px)?;
+        let (d_min, d_max) = self.disparity_search(range_px, xl)?;
+        self.load_bands(left, right, v_px, xl, d_max);
+        let (mean_l, std_l) = self.left_patch_texture(xl)?;
+        self.prepare_forward_search(xl, d_min, d_max, mean_l);
+        let (score, d_best) = self.forward_search(xl, d_min, d_max, std_l);
+        let disparity = self.refine_disparity(score, d_best, d_min, d_max)?;
+        self.left_right_check(xl, disparity, d_min)?;
+        self.triangulate(u_px, v_px, disparity, score)
+    }
+
+    /// Patch side (and band rows), pixels.
+    fn patch_side(&self) -> usize {
+        2 * self.params.patch_radius_px + 1
+    }
+
+    /// The left feature's integer column, if both views have the configured size and the
+    /// feature's patch lies inside them.
+    fn feature_column(
+        &self,
+        left: &ImageView<'_>,
+        right: &ImageView<'_>,
+        u_px: f32,
+        v_px: f32,
+    ) -> Result<isize, NoMatch> {
+        let r = self.params.patch_radius_px as isize;
         let (w, h) = (self.width as isize, self.height as isize);
         if left.width() != self.width
             || right.width() != self.width
@@ -221,7 +245,18 @@ impl StereoMatcher {
         if xl - r < 0 || xl + r >= w || y_top < 0.0 || (v_px + r as f32) as isize + 1 >= h {
             return Err(NoMatch::OutOfBounds);
         }
-        // Columns needed: the left patch and every right patch of the search.
+        Ok(xl)
+    }
+
+    /// Integer disparities `(d_min, d_max)` searched: `range_px` clipped to the configured
+    /// range and to the image, with one spare below for the parabola.
+    fn disparity_search(
+        &self,
+        range_px: Option<(f64, f64)>,
+        xl: isize,
+    ) -> Result<(isize, isize), NoMatch> {
+        let p = &self.params;
+        let r = p.patch_radius_px as isize;
         let (lo_px, hi_px) = match range_px {
             Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
                 (lo.max(p.min_disparity_px), hi.min(p.max_disparity_px))
@@ -233,6 +268,22 @@ impl StereoMatcher {
         if d_max < d_min + 2 {
             return Err(NoMatch::BadDisparity);
         }
+        Ok((d_min, d_max))
+    }
+
+    /// Interpolates both bands at the feature's sub-pixel row, over the columns needed: the
+    /// left patch and every right patch of the search.
+    fn load_bands(
+        &mut self,
+        left: &ImageView<'_>,
+        right: &ImageView<'_>,
+        v_px: f32,
+        xl: isize,
+        d_max: isize,
+    ) {
+        let r = self.params.patch_radius_px as isize;
+        let y_top = v_px - r as f32;
+        let rows = self.patch_side();
         let x_lo = (xl - d_max - r).max(0) as usize;
         let x_hi = (xl + r) as usize;
         fill_band(
@@ -240,7 +291,7 @@ impl StereoMatcher {
             &mut self.band_left,
             self.width,
             y_top,
-            2 * r as usize + 1,
+            rows,
             x_lo,
             x_hi,
         );
@@ -249,22 +300,36 @@ impl StereoMatcher {
             &mut self.band_right,
             self.width,
             y_top,
-            2 * r as usize + 1,
+            rows,
             x_lo,
             x_hi,
         );
-        let rows = 2 * r as usize + 1;
-        let Some((mean_l, std_l)) =
-            patch_stats(&self.band_left, self.width, rows, xl as usize, r as usize)
-        else {
+    }
+
+    /// Mean and standard deviation of the left patch, if it has enough texture to match.
+    fn left_patch_texture(&self, xl: isize) -> Result<(f32, f32), NoMatch> {
+        let r = self.params.patch_radius_px;
+        let Some((mean_l, std_l)) = patch_stats(
+            &self.band_left,
+            self.width,
+            self.patch_side(),
+            xl as usize,
+            r,
+        ) else {
             return Err(NoMatch::LowTexture);
         };
-        if f64::from(std_l) < p.min_patch_std {
+        if f64::from(std_l) < self.params.min_patch_std {
             return Err(NoMatch::LowTexture);
         }
-        // Forward search: right patch at xl − d. Zero-mean template and per-column sums of the
-        // right band make each candidate one multiply-add per pixel.
-        let side = 2 * r as usize + 1;
+        Ok((mean_l, std_l))
+    }
+
+    /// Fills the zero-mean left template and the per-column sums of the right band, so that
+    /// each candidate of the forward search is one multiply-add per pixel.
+    fn prepare_forward_search(&mut self, xl: isize, d_min: isize, d_max: isize, mean_l: f32) {
+        let r = self.params.patch_radius_px as isize;
+        let side = self.patch_side();
+        let rows = side;
         for k in 0..rows {
             for c in 0..side {
                 self.template[k * side + c] =
@@ -283,6 +348,20 @@ impl StereoMatcher {
             self.col_sum[x] = s1;
             self.col_sq[x] = s2;
         }
+    }
+
+    /// Forward search: the right patch at `xl − d` for every `d` in `d_min..=d_max`, scores
+    /// kept for the parabola; returns the best `(score, d)`.
+    fn forward_search(
+        &mut self,
+        xl: isize,
+        d_min: isize,
+        d_max: isize,
+        std_l: f32,
+    ) -> (f32, isize) {
+        let r = self.params.patch_radius_px as isize;
+        let side = self.patch_side();
+        let rows = side;
         let n = (rows * side) as f32;
         let mut best = (f32::NEG_INFINITY, d_min);
         for d in d_min..=d_max {
@@ -311,8 +390,19 @@ impl StereoMatcher {
                 best = (s, d);
             }
         }
-        let (score, d_best) = best;
-        if f64::from(score) < p.min_zncc {
+        best
+    }
+
+    /// The sub-pixel disparity of the best forward score, if it is good enough and not at an
+    /// end of the search (where the parabola has no neighbour).
+    fn refine_disparity(
+        &self,
+        score: f32,
+        d_best: isize,
+        d_min: isize,
+        d_max: isize,
+    ) -> Result<f64, NoMatch> {
+        if f64::from(score) < self.params.min_zncc {
             return Err(NoMatch::LowScore);
         }
         if d_best <= d_min || d_best >= d_max {
@@ -323,8 +413,15 @@ impl StereoMatcher {
             score,
             self.scores[(d_best + 1) as usize],
         );
-        let disparity = d_best as f64 + offset;
-        // Left–right check: the right patch at its integer column searched along the left row.
+        Ok(d_best as f64 + offset)
+    }
+
+    /// Left–right check: the right patch at its integer column searched along the left row
+    /// must land back on the left feature.
+    fn left_right_check(&self, xl: isize, disparity: f64, d_min: isize) -> Result<(), NoMatch> {
+        let r = self.params.patch_radius_px as isize;
+        let w = self.width as isize;
+        let rows = self.patch_side();
         let xr = (xl as f64 - disparity).round() as isize;
         if xr - r < 0 {
             return Err(NoMatch::OutOfBounds);
@@ -334,12 +431,8 @@ impl StereoMatcher {
         else {
             return Err(NoMatch::LowTexture);
         };
-        let mut back = (f32::NEG_INFINITY, 0isize);
-        let mut back_scores = [f32::NEG_INFINITY; 3];
-        let lo = (xl - xr - 2).max(d_min);
-        let hi = (xl - xr + 2).min(w - 1 - r - xr);
-        for d in lo..=hi {
-            let s = zncc(
+        let back_score = |d: isize| {
+            zncc(
                 &self.band_right,
                 xr as usize,
                 mean_r,
@@ -349,7 +442,13 @@ impl StereoMatcher {
                 self.width,
                 rows,
                 r as usize,
-            );
+            )
+        };
+        let mut back = (f32::NEG_INFINITY, 0isize);
+        let lo = (xl - xr - 2).max(d_min);
+        let hi = (xl - xr + 2).min(w - 1 - r - xr);
+        for d in lo..=hi {
+            let s = back_score(d);
             if s > back.0 {
                 back = (s, d);
             }
@@ -357,29 +456,33 @@ impl StereoMatcher {
         if back.0 == f32::NEG_INFINITY {
             return Err(NoMatch::LeftRightMismatch);
         }
+        let mut back_scores = [f32::NEG_INFINITY; 3];
         for (k, slot) in back_scores.iter_mut().enumerate() {
             let d = back.1 + k as isize - 1;
             if xr + d + r < w && d >= 0 {
-                *slot = zncc(
-                    &self.band_right,
-                    xr as usize,
-                    mean_r,
-                    std_r,
-                    &self.band_left,
-                    (xr + d) as usize,
-                    self.width,
-                    rows,
-                    r as usize,
-                );
+                *slot = back_score(d);
             }
         }
         let back_disp = back.1 as f64 + parabola(back_scores[0], back_scores[1], back_scores[2]);
         let back_xl = xr as f64 + back_disp;
         if (back_xl - xl as f64 - 0.0).abs()
-            > p.left_right_max_px + (xr as f64 - (xl as f64 - disparity)).abs()
+            > self.params.left_right_max_px + (xr as f64 - (xl as f64 - disparity)).abs()
         {
             return Err(NoMatch::LeftRightMismatch);
         }
+        Ok(())
+    }
+
+    /// The point in the left camera frame for `disparity`, with its depth σ, if the depth is
+    /// in range.
+    fn triangulate(
+        &self,
+        u_px: f32,
+        v_px: f32,
+        disparity: f64,
+        score: f32,
+    ) -> Result<StereoPoint, NoMatch> {
+        let p = &self.params;
         if disparity < p.min_disparity_px {
             return Err(NoMatch::BadDisparity);
         }

@@ -93,38 +93,36 @@ pub fn open_relays(
 ) -> Vec<SlotRelays> {
     use hopnav_ipc::messages::{HopLaunch, PhysicsState, PoseEstimate};
     use hopnav_ipc::topics;
-    let mut all = Vec::new();
-    if let Some(slot) = slot_of("physics") {
-        let relays = [relay::<PhysicsState>(
-            node,
-            &topics::PHYSICS_STATE,
-            &topics::RESUME_PHYSICS_STATE,
-        )];
-        all.push(SlotRelays {
+    // Opened only for an enabled process, in graph order.
+    let relays_of = |name: &str, open: &dyn Fn() -> Vec<Option<Box<dyn StateRelay>>>| {
+        slot_of(name).map(|slot| SlotRelays {
             slot,
-            relays: relays.into_iter().flatten().collect(),
-        });
-    }
-    if let Some(slot) = slot_of("jumper_vo") {
-        let relays = [
-            relay::<PoseEstimate>(node, &topics::JUMPER_POSE, &topics::RESUME_JUMPER_POSE),
-            relay::<HopLaunch>(node, &topics::HOP_LAUNCH, &topics::RESUME_HOP_LAUNCH),
-        ];
-        all.push(SlotRelays {
-            slot,
-            relays: relays.into_iter().flatten().collect(),
-        });
-    }
-    if let Some(slot) = slot_of("rover_vo") {
-        let relays = [relay::<PoseEstimate>(
-            node,
-            &topics::ROVER_POSE,
-            &topics::RESUME_ROVER_POSE,
-        )];
-        all.push(SlotRelays {
-            slot,
-            relays: relays.into_iter().flatten().collect(),
-        });
-    }
-    all
+            relays: open().into_iter().flatten().collect(),
+        })
+    };
+    [
+        relays_of("physics", &|| {
+            vec![relay::<PhysicsState>(
+                node,
+                &topics::PHYSICS_STATE,
+                &topics::RESUME_PHYSICS_STATE,
+            )]
+        }),
+        relays_of("jumper_vo", &|| {
+            vec![
+                relay::<PoseEstimate>(node, &topics::JUMPER_POSE, &topics::RESUME_JUMPER_POSE),
+                relay::<HopLaunch>(node, &topics::HOP_LAUNCH, &topics::RESUME_HOP_LAUNCH),
+            ]
+        }),
+        relays_of("rover_vo", &|| {
+            vec![relay::<PoseEstimate>(
+                node,
+                &topics::ROVER_POSE,
+                &topics::RESUME_ROVER_POSE,
+            )]
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
 }

@@ -25,7 +25,7 @@
 //! ```
 
 use crate::essential::eight_point::smallest_eigenvector;
-use crate::essential::{count_in_front, hartley_normalization};
+use crate::essential::{count_in_front, finite_correspondences, hartley_normalization};
 use nalgebra::{
     Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, Unit, UnitQuaternion,
     UnitVector3, Vector2, Vector3,
@@ -68,9 +68,7 @@ pub fn homography_dlt(
     if indices.len() < 4 {
         return Err(HomographyError::TooFewPoints { got: indices.len() });
     }
-    if indices.iter().any(|&i| {
-        i >= x1.len() || i >= x2.len() || !x1[i].iter().chain(x2[i].iter()).all(|v| v.is_finite())
-    }) {
+    if !finite_correspondences(x1, x2, indices) {
         return Err(HomographyError::BadInput);
     }
     let t1 = hartley_normalization(x1, indices).ok_or(HomographyError::Degenerate)?;
@@ -458,16 +456,8 @@ mod tests {
         let mut rng = XorShiftRng::new(9);
         for trial in 0..20 {
             let pose = Isometry3::new(
-                Vector3::new(
-                    rng.uniform(-0.5, 0.5),
-                    rng.uniform(-0.5, 0.5),
-                    rng.uniform(-0.5, 0.5),
-                ),
-                Vector3::new(
-                    rng.uniform(-0.2, 0.2),
-                    rng.uniform(-0.2, 0.2),
-                    rng.uniform(-0.2, 0.2),
-                ),
+                rng.uniform_vector3(-0.5, 0.5),
+                rng.uniform_vector3(-0.2, 0.2),
             );
             let n = Unit::new_normalize(Vector3::new(
                 rng.uniform(-0.5, 0.5),

@@ -60,6 +60,14 @@ impl XorShiftRng {
         lo + (hi - lo) * self.unit_f64()
     }
 
+    /// A vector whose components are uniform in `[lo, hi)`, drawn in the order x, y, z.
+    pub fn uniform_vector3(&mut self, lo: f64, hi: f64) -> nalgebra::Vector3<f64> {
+        let x = self.uniform(lo, hi);
+        let y = self.uniform(lo, hi);
+        let z = self.uniform(lo, hi);
+        nalgebra::Vector3::new(x, y, z)
+    }
+
     /// Standard normal sample (Box–Muller).
     pub fn gaussian(&mut self) -> f64 {
         let u1 = self.unit_f64().max(f64::MIN_POSITIVE);

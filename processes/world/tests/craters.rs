@@ -1,19 +1,26 @@
 //! Fresh craters: depth ≈ 0.2 × diameter, raised rim.
 
+mod common;
+
+use common::sized_world;
 use hopnav_world::{World, WorldConfig};
+
+/// A rock-free world of `size_m` on a `spacing_m` grid with `count` craters of diameters in
+/// `diameter_m` (min, max).
+fn cratered(size_m: [f64; 2], spacing_m: f64, count: u32, diameter_m: [f64; 2]) -> WorldConfig {
+    let mut cfg = sized_world(size_m[0], size_m[1], 0.0);
+    cfg.terrain.spacing_m = spacing_m;
+    cfg.craters.count = count;
+    cfg.craters.diameter_min_m = diameter_m[0];
+    cfg.craters.diameter_max_m = diameter_m[1];
+    cfg
+}
 
 #[test]
 fn crater_depth_is_a_fifth_of_the_diameter() {
-    let mut cfg = WorldConfig::default();
-    cfg.terrain.size_x_m = 20.0;
-    cfg.terrain.size_y_m = 20.0;
-    cfg.terrain.spacing_m = 0.05;
+    let mut cfg = cratered([20.0, 20.0], 0.05, 1, [6.0, 6.0]);
     cfg.terrain.relief_amplitude_m = 0.0;
-    cfg.rocks.golombek_k = 0.0;
     cfg.texture.texel_m = 0.05;
-    cfg.craters.count = 1;
-    cfg.craters.diameter_min_m = 6.0;
-    cfg.craters.diameter_max_m = 6.0;
     let w = World::generate(&cfg).unwrap();
     let c = w.craters()[0];
     assert!((c.diameter_m - 6.0).abs() < 1e-9);
@@ -36,14 +43,7 @@ fn crater_depth_is_a_fifth_of_the_diameter() {
 
 #[test]
 fn crater_rims_keep_clear_of_start_and_goal() {
-    let mut cfg = WorldConfig::default();
-    cfg.terrain.size_x_m = 30.0;
-    cfg.terrain.size_y_m = 12.0;
-    cfg.terrain.spacing_m = 0.1;
-    cfg.rocks.golombek_k = 0.0;
-    cfg.craters.count = 60;
-    cfg.craters.diameter_min_m = 3.0;
-    cfg.craters.diameter_max_m = 8.0;
+    let mut cfg = cratered([30.0, 12.0], 0.1, 60, [3.0, 8.0]);
     cfg.scenario.start_m = Some([-10.0, 0.0]);
     cfg.scenario.goal_m = Some([10.0, 0.0]);
     cfg.scenario.clear_radius_m = 2.0;

@@ -1,5 +1,8 @@
 //! The sampled rock population follows the Golombek model.
 
+mod common;
+
+use common::sized_world;
 use hopnav_world::rocks::{Golombek, RockSource};
 use hopnav_world::{World, WorldConfig};
 
@@ -61,10 +64,7 @@ fn q_follows_golombek() {
 
 #[test]
 fn rocks_sit_on_the_ground_and_avoid_scenario_points() {
-    let mut cfg = WorldConfig::default();
-    cfg.terrain.size_x_m = 24.0;
-    cfg.terrain.size_y_m = 24.0;
-    cfg.rocks.golombek_k = 0.16;
+    let mut cfg = sized_world(24.0, 24.0, 0.16);
     cfg.scenario.start_m = Some([-5.0, 0.0]);
     cfg.scenario.goal_m = Some([5.0, 0.0]);
     cfg.scenario.clear_radius_m = 2.0;

@@ -216,34 +216,26 @@ impl Process for JumperVoProcess {
         drop(image);
         let world_from_body = Pose3::from_isometry(&output.world_from_body);
         let stamp = header.stamp;
-        self.poses.send_with(|pose| {
-            pose.stamp.frame_index = stamp.frame_index;
-            pose.stamp.sim_time_ns = stamp.sim_time_ns;
-            pose.world_from_body = world_from_body;
-            pose.confidence = output.confidence;
-            pose.scale = output.scale.unwrap_or(0.0);
-            pose.tracked_features = output.tracked_features as u32;
-            pose.robot = Robot::Jumper.code();
-            pose.is_keyframe = u32::from(output.is_keyframe);
-        })?;
+        self.poses.send(PoseEstimate::from_vo(
+            Robot::Jumper,
+            &stamp,
+            world_from_body,
+            output.confidence,
+            output.scale.unwrap_or(0.0),
+            output.tracked_features,
+            output.is_keyframe,
+        ))?;
         if let Some(cloud) = &output.cloud {
-            let len = cloud.len().min(self.clouds.max_len());
             self.keyframes += 1;
-            let keyframe_index = self.keyframes;
             let cloud_camera = output
                 .cloud_world_from_camera
                 .map_or(world_from_body, |camera| Pose3::from_isometry(&camera));
-            self.clouds.send_from_fn(
-                len,
-                |cloud_header| {
-                    *cloud_header = CloudHeader::keyframe(
-                        Robot::Jumper,
-                        &stamp,
-                        cloud_camera,
-                        len,
-                        keyframe_index,
-                    );
-                },
+            self.clouds.send_keyframe_cloud(
+                Robot::Jumper,
+                &stamp,
+                cloud_camera,
+                self.keyframes,
+                cloud.len(),
                 |index| {
                     let point = &cloud[index];
                     FeaturePoint::from_estimate(

@@ -249,6 +249,55 @@ impl MapperProcess {
     }
 }
 
+/// Restores `map` from the snapshot at `path`; true if there was one.
+fn restore_snapshot(map: &mut FeatureMap, path: &Path) -> bool {
+    match snapshot::restore_file(map, path) {
+        Ok(true) => {
+            let marks = map.counters().last_cloud_frame;
+            eprintln!(
+                "mapper: map restored from {} (clouds up to frame {} of the jumper, {} \
+                 of the rover; later ones come from the cloud topics' history)",
+                path.display(),
+                frame_text(marks[0]),
+                frame_text(marks[1])
+            );
+            true
+        }
+        Ok(false) => false,
+        Err(error) => {
+            eprintln!("mapper: starting with an empty map: {error}");
+            false
+        }
+    }
+}
+
+/// Puts the world's unclimbable rocks on `map`, as a perfect scout would report them
+/// (evaluation only).
+fn insert_oracle_prior(
+    map: &mut FeatureMap,
+    config: &HopnavConfig,
+) -> Result<(), MapperProcessError> {
+    let report = perfect_scout_report(config).map_err(NodeError::Own)?;
+    let accepted = map.insert_cloud(Robot::Rover, &report.points);
+    eprintln!(
+        "mapper: oracle prior map (evaluation only): {accepted} points on the {} rocks \
+         the rover cannot climb (of {})",
+        report.rocks_reported, report.rocks_in_world
+    );
+    Ok(())
+}
+
+/// The writer of snapshots to `path`, or none (said) if its thread cannot start.
+fn snapshot_writer(map: &FeatureMap, path: &Path) -> Option<SnapshotWriter> {
+    match SnapshotWriter::new(map, path.to_path_buf()) {
+        Ok(writer) => Some(writer),
+        Err(error) => {
+            eprintln!("mapper: no snapshots (writer thread: {error})");
+            None
+        }
+    }
+}
+
 impl Process for MapperProcess {
     type Error = MapperProcessError;
 
@@ -273,46 +322,18 @@ impl Process for MapperProcess {
             .config_path
             .parent()
             .map(|dir| dir.join(SNAPSHOT_FILE));
-        let mut restored = false;
         // Only a restart restores: a first start in a reused run folder must not take the
         // previous launch's map.
-        if context.identity.incarnation > 0
-            && let Some(path) = &snapshot_path
-        {
-            match snapshot::restore_file(&mut map, path) {
-                Ok(true) => {
-                    let marks = map.counters().last_cloud_frame;
-                    eprintln!(
-                        "mapper: map restored from {} (clouds up to frame {} of the jumper, {} \
-                         of the rover; later ones come from the cloud topics' history)",
-                        path.display(),
-                        frame_text(marks[0]),
-                        frame_text(marks[1])
-                    );
-                    restored = true;
-                }
-                Ok(false) => {}
-                Err(error) => eprintln!("mapper: starting with an empty map: {error}"),
-            }
-        }
+        let restored = context.identity.incarnation > 0
+            && snapshot_path
+                .as_deref()
+                .is_some_and(|path| restore_snapshot(&mut map, path));
         // A restored map already holds the oracle's points.
         if section.oracle_prior_map && !restored {
-            let report = perfect_scout_report(&config).map_err(NodeError::Own)?;
-            let accepted = map.insert_cloud(Robot::Rover, &report.points);
-            eprintln!(
-                "mapper: oracle prior map (evaluation only): {accepted} points on the {} rocks \
-                 the rover cannot climb (of {})",
-                report.rocks_reported, report.rocks_in_world
-            );
+            insert_oracle_prior(&mut map, &config)?;
         }
         let snapshots = match (&snapshot_path, section.snapshot_every_frames) {
-            (Some(path), 1..) => match SnapshotWriter::new(&map, path.clone()) {
-                Ok(writer) => Some(writer),
-                Err(error) => {
-                    eprintln!("mapper: no snapshots (writer thread: {error})");
-                    None
-                }
-            },
+            (Some(path), 1..) => snapshot_writer(&map, path),
             _ => None,
         };
         let restored_cloud_frames = if restored {

@@ -2,27 +2,17 @@
 //! frame, changed cells after clouds, nothing on quiet frames, rejected samples counted, and a
 //! restart that restores the map from its snapshot.
 
-use std::time::Duration;
-
-use hopnav_ipc::messages::{
-    CellClass, CellUpdate, CloudHeader, FeaturePoint, FrameTick, MapHeader, Robot, SampleStamp,
-};
+use hopnav_ipc::messages::{CellClass, CellUpdate, CloudHeader, FeaturePoint, MapHeader, Robot};
 use hopnav_ipc::namespace::Namespace;
-use hopnav_ipc::process_loop::{Process, ProcessContext, ProcessIdentity};
+use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
 use hopnav_mapper_node::{MapperProcess, SNAPSHOT_FILE};
 
-fn tick(frame_index: u64) -> FrameTick {
-    FrameTick {
-        stamp: SampleStamp {
-            frame_index,
-            sim_time_ns: frame_index * 100_000_000,
-            ..SampleStamp::default()
-        },
-        ..FrameTick::default()
-    }
-}
+#[path = "../../../../ipc/tests/support/node_harness.rs"]
+mod node_harness;
+
+use node_harness::{run_dir_with_config, tick};
 
 fn context(namespace: &Namespace, run_dir: &std::path::Path) -> ProcessContext {
     context_of_incarnation(namespace, run_dir, 0)
@@ -33,17 +23,7 @@ fn context_of_incarnation(
     run_dir: &std::path::Path,
     incarnation: u32,
 ) -> ProcessContext {
-    ProcessContext {
-        node: namespace.create_node("mapper").expect("node"),
-        identity: ProcessIdentity {
-            name: "mapper".into(),
-            run_id: namespace.run_id().into(),
-            slot: 0,
-            incarnation,
-            heartbeat_period: Duration::from_millis(100),
-            config_path: run_dir.join("config.toml"),
-        },
-    }
+    node_harness::context(namespace, run_dir, "mapper", incarnation)
 }
 
 /// Ground at z = 0 around (1, 1) and a 0.6 m rock in the cell at (1.2, 1.2).
@@ -93,14 +73,7 @@ fn receive_all(subscriber: &SliceSubscriber<MapHeader>) -> (Vec<CellUpdate>, Opt
 fn publishes_header_then_changed_cells_and_recovers_after_restart() {
     let run_id = format!("mapper-test-{}", std::process::id());
     let namespace = Namespace::new(&run_id).expect("namespace");
-    let run_dir = std::env::temp_dir().join(&run_id);
-    std::fs::create_dir_all(&run_dir).expect("run dir");
-    let config = hopnav_config::load(Some("[mapper]\nsnapshot_every_frames = 1\n")).expect("ok");
-    std::fs::write(
-        run_dir.join("config.toml"),
-        hopnav_config::to_toml(&config).expect("toml"),
-    )
-    .expect("write config");
+    let run_dir = run_dir_with_config(&run_id, Some("[mapper]\nsnapshot_every_frames = 1\n"));
 
     let test_node = namespace.create_node("mapper_test").expect("node");
     let updates =
@@ -171,16 +144,9 @@ fn publishes_header_then_changed_cells_and_recovers_after_restart() {
 fn the_oracle_prior_map_starts_with_the_worlds_rocks() {
     let run_id = format!("mapper-oracle-test-{}", std::process::id());
     let namespace = Namespace::new(&run_id).expect("namespace");
-    let run_dir = std::env::temp_dir().join(&run_id);
-    std::fs::create_dir_all(&run_dir).expect("run dir");
     let text = "[mapper]\noracle_prior_map = true\nsnapshot_every_frames = 0\n\
                 [[world.rocks.explicit]]\ncenter_m = [5.2, 5.2]\ndiameter_m = 1.5\nheight_m = 0.8\n";
-    let config = hopnav_config::load(Some(text)).expect("ok");
-    std::fs::write(
-        run_dir.join("config.toml"),
-        hopnav_config::to_toml(&config).expect("toml"),
-    )
-    .expect("write config");
+    let run_dir = run_dir_with_config(&run_id, Some(text));
     let test_node = namespace.create_node("mapper_test").expect("node");
     let updates =
         SliceSubscriber::<MapHeader>::open(&test_node, &topics::MAP_UPDATES).expect("sub");

@@ -3,43 +3,23 @@
 //! continues the simulation from the last state the killed one published, and one handed a
 //! corrupt or impossible state says so and starts over at t = 0 instead of failing.
 
-use std::time::Duration;
-
 use hopnav_config::parse_section;
-use hopnav_ipc::messages::{BodyStates, FrameTick, PhysicsState, SampleStamp};
+use hopnav_ipc::messages::{BodyStates, PhysicsState};
 use hopnav_ipc::namespace::Namespace;
-use hopnav_ipc::process_loop::{Process, ProcessContext, ProcessIdentity};
+use hopnav_ipc::process_loop::{Process, ProcessContext};
 use hopnav_ipc::topics;
 use hopnav_ipc::transport::{Publisher, Subscriber};
-use hopnav_physics::{FrameInputs, PhysicsSim};
+use hopnav_physics::{FrameInputs, FrameOutputs, PhysicsSim};
 use hopnav_physics_node::{PhysicsProcess, physics_section};
 use hopnav_world::{World, WorldConfig};
 
-const PERIOD_NS: u64 = 100_000_000;
+#[path = "../../../../ipc/tests/support/node_harness.rs"]
+mod node_harness;
 
-fn tick(frame_index: u64) -> FrameTick {
-    FrameTick {
-        stamp: SampleStamp {
-            frame_index,
-            sim_time_ns: frame_index * PERIOD_NS,
-            ..SampleStamp::default()
-        },
-        ..FrameTick::default()
-    }
-}
+use node_harness::{PERIOD_NS, run_dir_with_config, tick};
 
 fn context(namespace: &Namespace, run_dir: &std::path::Path, incarnation: u32) -> ProcessContext {
-    ProcessContext {
-        node: namespace.create_node("physics").expect("node"),
-        identity: ProcessIdentity {
-            name: "physics".into(),
-            run_id: namespace.run_id().into(),
-            slot: 0,
-            incarnation,
-            heartbeat_period: Duration::from_millis(100),
-            config_path: run_dir.join("config.toml"),
-        },
-    }
+    node_harness::context(namespace, run_dir, "physics", incarnation)
 }
 
 /// The supervisor's part: the newest state sample, republished on the resume topic.
@@ -82,18 +62,42 @@ fn restart_and_step(
     (states, physics.rejected_samples())
 }
 
+/// The uninterrupted reference: the same world, configuration and seed, no inputs, for
+/// `frames` frames.
+fn uninterrupted_reference(
+    config: &hopnav_config::HopnavConfig,
+    frames: usize,
+) -> Vec<FrameOutputs> {
+    let world_config: WorldConfig = parse_section(config, "world").expect("world");
+    let world = World::generate(&world_config).expect("world");
+    let mut reference = PhysicsSim::new(
+        &world,
+        &physics_section(config).expect("physics"),
+        world_config.seed,
+    )
+    .expect("sim");
+    (0..frames)
+        .map(|_| reference.step_frame(&FrameInputs::default()))
+        .collect()
+}
+
+/// The first incarnation runs `frames` frames, its states relayed, and is killed: no stop,
+/// nothing saved on the way out.
+fn run_and_kill(namespace: &Namespace, run_dir: &std::path::Path, relay: &mut Relay, frames: u64) {
+    let context = context(namespace, run_dir, 0);
+    let mut physics = PhysicsProcess::new(&context).expect("new");
+    for frame_index in 0..frames {
+        physics.step(&context, &tick(frame_index)).expect("step");
+        relay.forward();
+    }
+}
+
 #[test]
 fn a_restarted_physics_continues_from_the_last_state_and_refuses_a_bad_one() {
     let run_id = format!("physics-resume-test-{}", std::process::id());
     let namespace = Namespace::new(&run_id).expect("namespace");
-    let run_dir = std::env::temp_dir().join(&run_id);
-    std::fs::create_dir_all(&run_dir).expect("run dir");
+    let run_dir = run_dir_with_config(&run_id, None);
     let config = hopnav_config::load(None).expect("defaults");
-    std::fs::write(
-        run_dir.join("config.toml"),
-        hopnav_config::to_toml(&config).expect("toml"),
-    )
-    .expect("write config");
 
     let test_node = namespace.create_node("physics_test").expect("node");
     let body_states =
@@ -104,30 +108,11 @@ fn a_restarted_physics_continues_from_the_last_state_and_refuses_a_bad_one() {
         last: None,
     };
 
-    // The uninterrupted reference: the same world, configuration and seed, no inputs.
-    let world_config: WorldConfig = parse_section(&config, "world").expect("world");
-    let world = World::generate(&world_config).expect("world");
-    let mut reference = PhysicsSim::new(
-        &world,
-        &physics_section(&config).expect("physics"),
-        world_config.seed,
-    )
-    .expect("sim");
-    let reference: Vec<_> = (0..31)
-        .map(|_| reference.step_frame(&FrameInputs::default()))
-        .collect();
+    let reference = uninterrupted_reference(&config, 31);
 
     // The first incarnation runs 30 frames (the jumper is in its initial hop) and is killed.
     const KILLED_AFTER: u64 = 30;
-    {
-        let context = context(&namespace, &run_dir, 0);
-        let mut physics = PhysicsProcess::new(&context).expect("new");
-        for frame_index in 0..KILLED_AFTER {
-            physics.step(&context, &tick(frame_index)).expect("step");
-            relay.forward();
-        }
-        // Killed: no stop, nothing saved on the way out.
-    }
+    run_and_kill(&namespace, &run_dir, &mut relay, KILLED_AFTER);
     let last = relay.last.expect("state published every frame");
     assert_eq!(last.frames_simulated, KILLED_AFTER);
     assert_eq!(last.stamp.sim_time_ns, KILLED_AFTER * PERIOD_NS);

@@ -120,10 +120,38 @@ impl Default for ScoutConfig {
     }
 }
 
+/// A key, its value, the allowed closed range and that range as the error states it.
+type RangeCheck = (&'static str, f64, f64, f64, &'static str);
+
+/// The first check whose value is not finite or is outside its range.
+fn first_out_of_range(checks: &[RangeCheck]) -> Result<(), (String, f64, &'static str)> {
+    for &(key, value, low, high, range) in checks {
+        if !(value.is_finite() && (low..=high).contains(&value)) {
+            return Err((key.to_string(), value, range));
+        }
+    }
+    Ok(())
+}
+
 impl NavigatorConfig {
     /// Checks every value; the error names the key (relative to `[planner]`) and its range.
     pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
-        let checks: [(&str, f64, f64, f64, &'static str); 19] = [
+        first_out_of_range(&self.stuck_checks())?;
+        first_out_of_range(&self.driving_checks())?;
+        first_out_of_range(&self.scout_checks())?;
+        if self.scout.min_hop_m > self.scout.hop_range_m {
+            return Err((
+                "scout.min_hop_m".into(),
+                self.scout.min_hop_m,
+                "at most scout.hop_range_m",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The stall, no-progress, back-off, bump and tilt limits.
+    fn stuck_checks(&self) -> [RangeCheck; 10] {
+        [
             ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
             (
                 "no_progress_time_s",
@@ -164,6 +192,12 @@ impl NavigatorConfig {
                 10.0,
                 "0.01..=10",
             ),
+        ]
+    }
+
+    /// Goal, speed, lookahead, sensing and the unknown-cell premium.
+    fn driving_checks(&self) -> [RangeCheck; 5] {
+        [
             (
                 "goal_tolerance_m",
                 self.goal_tolerance_m,
@@ -193,6 +227,12 @@ impl NavigatorConfig {
                 100_000.0,
                 "0..=100000",
             ),
+        ]
+    }
+
+    /// The cooperative rule (`scout.*`).
+    fn scout_checks(&self) -> [RangeCheck; 4] {
+        [
             (
                 "scout.hop_range_m",
                 self.scout.hop_range_m,
@@ -221,20 +261,7 @@ impl NavigatorConfig {
                 1000.0,
                 "0..=1000",
             ),
-        ];
-        for (key, value, low, high, range) in checks {
-            if !(value.is_finite() && (low..=high).contains(&value)) {
-                return Err((key.to_string(), value, range));
-            }
-        }
-        if self.scout.min_hop_m > self.scout.hop_range_m {
-            return Err((
-                "scout.min_hop_m".into(),
-                self.scout.min_hop_m,
-                "at most scout.hop_range_m",
-            ));
-        }
-        Ok(())
+        ]
     }
 }
 

@@ -354,6 +354,29 @@ impl Navigator {
                     x_m: rover_m[0],
                     y_m: rover_m[1],
                 })?;
+        self.take_settled_scouting(rover_m, time_s);
+        if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
+            let replanned = self.apply_pending()?;
+            return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
+        }
+        self.watch_tilt_and_bumper(rover, rover_cell, time_s);
+        let replanned = self.apply_pending()?;
+        self.route_check_pending |= replanned;
+        if let Some(back_off) = self.back_off(replanned) {
+            return Ok(back_off);
+        }
+        let Some(start_cell) = self.plan_start(rover_cell, rover_m)? else {
+            return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
+        };
+        if !self.replan_from(start_cell)? {
+            return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
+        }
+        self.follow_new_path();
+        Ok(self.drive(rover_m, jumper_m, time_s, replanned))
+    }
+
+    /// Queues the scouted cells that have settled, those on the path just ahead first.
+    fn take_settled_scouting(&mut self, rover_m: [f64; 2], time_s: f64) {
         let ahead_len = self.path_cells_within(rover_m, SCOUT_BATCH_URGENT_AHEAD_M);
         for change in self
             .scouted
@@ -361,10 +384,11 @@ impl Navigator {
         {
             self.take_change(change);
         }
-        if distance_m(rover_m, self.goal_m) <= self.config.goal_tolerance_m {
-            let replanned = self.apply_pending()?;
-            return Ok(self.hold(rover_m, MissionStatus::GoalReached, replanned));
-        }
+    }
+
+    /// Stops on a slope getting too steep, and feeds the bumper; a stuck rover marks the
+    /// obstacle ahead.
+    fn watch_tilt_and_bumper(&mut self, rover: RoverPose, rover_cell: Cell, time_s: f64) {
         let tilt_rad = self.rover_tilt_rad;
         let safe_rad = self.config.max_safe_tilt_rad;
         // Already on a slope steeper than safe (started there, or came back): only getting
@@ -387,20 +411,29 @@ impl Navigator {
         if let BumperEvent::Stuck { obstacle_m } = event {
             self.mark_bumped_ahead(rover, obstacle_m, rover_cell);
         }
-        let replanned = self.apply_pending()?;
-        self.route_check_pending |= replanned;
-        if let Some(waypoint_m) = self.bumper.back_off_waypoint() {
-            self.driving = false;
-            return Ok(Decision {
-                waypoint_m,
-                speed_mps: 0.5 * self.config.cruise_speed_mps,
-                hold: false,
-                reverse: !self.bumper.backing_off_forward(),
-                scout: None,
-                status: MissionStatus::Driving,
-                replanned,
-            });
-        }
+    }
+
+    /// The bumper's back-off move, while it has one.
+    fn back_off(&mut self, replanned: bool) -> Option<Decision> {
+        let waypoint_m = self.bumper.back_off_waypoint()?;
+        self.driving = false;
+        Some(Decision {
+            waypoint_m,
+            speed_mps: 0.5 * self.config.cruise_speed_mps,
+            hold: false,
+            reverse: !self.bumper.backing_off_forward(),
+            scout: None,
+            status: MissionStatus::Driving,
+            replanned,
+        })
+    }
+
+    /// The cell to plan from (`None`: walled in even without the guesses).
+    fn plan_start(
+        &mut self,
+        rover_cell: Cell,
+        rover_m: [f64; 2],
+    ) -> Result<Option<Cell>, NavigationError> {
         // Mapping noise or a cut corner can put the rover in an obstacle cell: plan from the
         // nearest traversable cell instead (an obstacle start would have no way out).
         let mut start = self.nearest_traversable(rover_cell, rover_m);
@@ -409,9 +442,12 @@ impl Navigator {
         if start.is_none() && (self.forget_bump_marks()? | self.relax_doubts()?) {
             start = self.nearest_traversable(rover_cell, rover_m);
         }
-        let Some(start_cell) = start else {
-            return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
-        };
+        Ok(start)
+    }
+
+    /// Plans from `start_cell`, dropping bump marks, then doubts, if the goal is unreachable
+    /// with them; false if it stays unreachable (the path is then retired).
+    fn replan_from(&mut self, start_cell: Cell) -> Result<bool, NavigationError> {
         if start_cell != self.planner.start() {
             self.planner
                 .move_start(start_cell)
@@ -429,14 +465,20 @@ impl Navigator {
                 self.counters.total_expansions += stats.expansions;
                 self.counters.last_expansions = stats.expansions;
                 self.counters.path_cost = stats.cost;
+                Ok(true)
             }
             Err(PlanError::Unreachable) => {
                 self.retire_path();
                 self.counters.path_cost = 0;
-                return Ok(self.hold(rover_m, MissionStatus::Unreachable, replanned));
+                Ok(false)
             }
-            Err(error) => return Err(NavigationError::Plan(error)),
+            Err(error) => Err(NavigationError::Plan(error)),
         }
+    }
+
+    /// Takes the planner's path as the one to follow, counting a route change if a replan
+    /// moved it.
+    fn follow_new_path(&mut self) {
         self.retire_path();
         if let Some(path) = self.planner.path() {
             self.path.extend(path);
@@ -446,10 +488,20 @@ impl Navigator {
         {
             self.counters.route_changes += 1;
         }
+    }
+
+    /// Drives along the path at cruise speed, with the jumper's next scouting target.
+    fn drive(
+        &mut self,
+        rover_m: [f64; 2],
+        jumper_m: Option<[f64; 2]>,
+        time_s: f64,
+        replanned: bool,
+    ) -> Decision {
         let waypoint_m = self.waypoint(rover_m);
         let scout = self.scout(rover_m, jumper_m, time_s);
         self.driving = true;
-        Ok(Decision {
+        Decision {
             waypoint_m,
             speed_mps: self.config.cruise_speed_mps,
             hold: false,
@@ -457,7 +509,7 @@ impl Navigator {
             scout,
             status: MissionStatus::Driving,
             replanned,
-        })
+        }
     }
 
     /// Applies queued changes; true when they changed the cost of the path being followed.

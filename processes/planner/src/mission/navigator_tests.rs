@@ -384,6 +384,14 @@ fn jumper_only_rock(cell: Cell) -> MapChange {
     }
 }
 
+/// Whether the navigator's path stays out of column `x`, rows `rows`.
+fn path_avoids_column(navigator: &Navigator, x: u32, rows: std::ops::Range<u32>) -> bool {
+    navigator
+        .path()
+        .iter()
+        .all(|cell| !(cell.x == x && rows.contains(&cell.y)))
+}
+
 /// A navigator without scouting that planned once, at t = 0, from the rover at (2, 5) m
 /// across an all-unknown map.
 fn planned_on_an_unknown_map() -> (Navigator, RoverPose) {
@@ -418,12 +426,7 @@ fn a_hops_jumper_cells_change_the_route_once_when_its_clouds_stop_coming() {
     assert!(decision.replanned);
     assert_eq!(navigator.counters().replans, 1);
     assert!(navigator.counters().path_cost > straight_cost);
-    assert!(
-        navigator
-            .path()
-            .iter()
-            .all(|cell| !(cell.x == 30 && (6..12).contains(&cell.y)))
-    );
+    assert!(path_avoids_column(&navigator, 30, 6..12));
 }
 
 #[test]
@@ -434,12 +437,7 @@ fn a_held_jumper_rock_just_ahead_on_the_path_is_taken_at_once() {
     navigator.queue_changes((8..12).map(|y| jumper_only_rock(Cell::new(8, y))));
     let decision = navigator.step(rover, None, 0.1).unwrap();
     assert!(decision.replanned, "held while the rover drives into it");
-    assert!(
-        navigator
-            .path()
-            .iter()
-            .all(|cell| !(cell.x == 8 && (8..12).contains(&cell.y)))
-    );
+    assert!(path_avoids_column(&navigator, 8, 8..12));
 }
 
 #[test]

@@ -15,7 +15,7 @@
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{
     CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3, PoseEstimate,
-    Robot,
+    Robot, SampleStamp,
 };
 use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
@@ -26,7 +26,7 @@ use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 
 use hopnav_rover_vo::config::RoverVoConfig;
 use hopnav_rover_vo::motion::{Intrinsics, Tilt};
-use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, start_pose};
+use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, VoOutput, start_pose};
 
 /// Why the rover VO process failed: only the plumbing every node shares.
 pub type RoverVoProcessError = NodeError;
@@ -192,100 +192,107 @@ impl RoverVoProcess {
         publish: bool,
     ) -> Result<(), RoverVoProcessError> {
         let header = *image.header();
-        let pixels = image.elements();
-        let Some(rig) = rig_from_header(&header, pixels.len()) else {
+        let Some((rig, left, right)) = stereo_views(&header, image.elements()) else {
             self.bad_headers += 1;
             return Ok(());
         };
-        let view_len = header.view_len_bytes();
-        let (w, h, stride) = (
-            header.width_px as usize,
-            header.height_px as usize,
-            header.stride_bytes as usize,
-        );
-        let (Ok(left), Ok(right)) = (
-            ImageView::new(&pixels[..view_len], w, h, stride),
-            ImageView::new(&pixels[view_len..2 * view_len], w, h, stride),
-        ) else {
+        if !self.ensure_pipeline(rig) {
             self.bad_headers += 1;
             return Ok(());
-        };
-        if self.vo.as_ref().is_none_or(|vo| *vo.rig() != rig) {
-            let carried = self
-                .vo
-                .as_ref()
-                .map(RoverVo::world_from_body)
-                .or(self.resume_pose.take());
-            let Ok(vo) = RoverVo::new(
-                self.config.clone(),
-                rig,
-                carried.unwrap_or_else(Isometry3::identity),
-            ) else {
-                self.bad_headers += 1;
-                return Ok(());
-            };
-            self.vo = Some(vo);
-            self.started = carried.is_some();
         }
-        let Some(vo) = self.vo.as_mut() else {
-            return Ok(());
-        };
         let frame = StereoFrame {
             left,
             right,
             imu_attitude: self.last_imu,
         };
-        if !self.started {
-            let Some(attitude) = self.last_imu else {
-                return Ok(()); // the start attitude comes from the IMU: wait for it
-            };
-            let height_m = vo
-                .body_height_above_ground_m(&frame, Tilt::from_attitude(&attitude))
-                .unwrap_or(rig.body_from_camera.translation.z * 0.4);
-            let start_xy = self.config.start_xy_m.unwrap_or(PHYSICS_DEFAULT_START_XY_M);
-            vo.reset(start_pose(
-                attitude,
-                start_xy,
-                self.config.start_ground_z_m,
-                height_m,
-            ));
-            self.started = true;
+        if !self.start_if_needed(&frame, &rig) {
+            return Ok(()); // the start attitude comes from the IMU: wait for it
         }
+        let Some(vo) = self.vo.as_mut() else {
+            return Ok(());
+        };
         let output = vo.process_frame(&frame);
         drop(image);
         if !publish {
             return Ok(());
         }
-        let world_from_body = Pose3::from_isometry(&output.world_from_body);
-        let stamp = header.stamp;
-        self.poses.send_with(|pose| {
-            pose.stamp.frame_index = stamp.frame_index;
-            pose.stamp.sim_time_ns = stamp.sim_time_ns;
-            pose.world_from_body = world_from_body;
-            pose.confidence = output.confidence;
-            pose.scale = 1.0;
-            pose.tracked_features = output.tracked_features as u32;
-            pose.robot = Robot::Rover.code();
-            pose.is_keyframe = u32::from(output.is_keyframe);
-        })?;
+        self.publish(&output, &header.stamp, &rig)
+    }
+
+    /// A pipeline for `rig`: the current one, or a new one (after a geometry change, carrying
+    /// the pose over; after a restart, at the resumed pose). `false` if it cannot be built.
+    fn ensure_pipeline(&mut self, rig: StereoRig) -> bool {
+        if self.vo.as_ref().is_some_and(|vo| *vo.rig() == rig) {
+            return true;
+        }
+        let carried = self
+            .vo
+            .as_ref()
+            .map(RoverVo::world_from_body)
+            .or(self.resume_pose.take());
+        let Ok(vo) = RoverVo::new(
+            self.config.clone(),
+            rig,
+            carried.unwrap_or_else(Isometry3::identity),
+        ) else {
+            return false;
+        };
+        self.vo = Some(vo);
+        self.started = carried.is_some();
+        true
+    }
+
+    /// Places a pipeline that has no pose yet at the start pose (see the module docs);
+    /// `false` while there is no IMU attitude to start from.
+    fn start_if_needed(&mut self, frame: &StereoFrame<'_>, rig: &StereoRig) -> bool {
+        if self.started {
+            return true;
+        }
+        let (Some(vo), Some(attitude)) = (self.vo.as_mut(), self.last_imu) else {
+            return false;
+        };
+        let height_m = vo
+            .body_height_above_ground_m(frame, Tilt::from_attitude(&attitude))
+            .unwrap_or(rig.body_from_camera.translation.z * 0.4);
+        let start_xy = self.config.start_xy_m.unwrap_or(PHYSICS_DEFAULT_START_XY_M);
+        vo.reset(start_pose(
+            attitude,
+            start_xy,
+            self.config.start_ground_z_m,
+            height_m,
+        ));
+        self.started = true;
+        true
+    }
+
+    /// Publishes the pose of `output` and, at a keyframe, the pipeline's cloud.
+    fn publish(
+        &mut self,
+        output: &VoOutput,
+        stamp: &SampleStamp,
+        rig: &StereoRig,
+    ) -> Result<(), RoverVoProcessError> {
+        self.poses.send(PoseEstimate::from_vo(
+            Robot::Rover,
+            stamp,
+            Pose3::from_isometry(&output.world_from_body),
+            output.confidence,
+            1.0,
+            output.tracked_features,
+            output.is_keyframe,
+        ))?;
+        let Some(vo) = self.vo.as_ref() else {
+            return Ok(());
+        };
         if output.is_keyframe && self.config.publish_cloud {
             let cloud = vo.cloud();
-            let len = cloud.len().min(self.clouds.max_len());
             self.keyframes += 1;
-            let keyframe_index = self.keyframes;
-            let world_from_camera =
-                Pose3::from_isometry(&(output.world_from_body * rig.body_from_camera));
-            self.clouds.send_from_fn(
-                len,
-                |cloud_header| {
-                    *cloud_header = CloudHeader::keyframe(
-                        Robot::Rover,
-                        &stamp,
-                        world_from_camera,
-                        len,
-                        keyframe_index,
-                    );
-                },
+            self.clouds.send_keyframe_cloud(
+                Robot::Rover,
+                stamp,
+                Pose3::from_isometry(&(output.world_from_body * rig.body_from_camera)),
+                self.keyframes,
+                cloud.len(),
                 |index| {
                     let point = &cloud[index];
                     FeaturePoint::from_estimate(
@@ -299,6 +306,23 @@ impl RoverVoProcess {
         }
         Ok(())
     }
+}
+
+/// The rig a stereo header describes and its two views, or `None` if either is unusable.
+fn stereo_views<'a>(
+    header: &ImageHeader,
+    pixels: &'a [u8],
+) -> Option<(StereoRig, ImageView<'a>, ImageView<'a>)> {
+    let rig = rig_from_header(header, pixels.len())?;
+    let view_len = header.view_len_bytes();
+    let (w, h, stride) = (
+        header.width_px as usize,
+        header.height_px as usize,
+        header.stride_bytes as usize,
+    );
+    let left = ImageView::new(&pixels[..view_len], w, h, stride).ok()?;
+    let right = ImageView::new(&pixels[view_len..2 * view_len], w, h, stride).ok()?;
+    Some((rig, left, right))
 }
 
 impl Process for RoverVoProcess {

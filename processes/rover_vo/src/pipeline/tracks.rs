@@ -44,17 +44,11 @@ impl RoverVo {
         let mut keep = 0;
         for i in 0..self.track_px.len() {
             if self.status[i] == TrackStatus::Tracked {
-                self.track_px[keep] = self.next_px[i];
-                self.track_world[keep] = self.track_world[i];
-                self.track_sigma_m[keep] = self.track_sigma_m[i];
-                self.track_id[keep] = self.track_id[i];
+                self.move_track(i, keep, self.next_px[i]);
                 keep += 1;
             }
         }
-        self.track_px.truncate(keep);
-        self.track_world.truncate(keep);
-        self.track_sigma_m.truncate(keep);
-        self.track_id.truncate(keep);
+        self.truncate_tracks(keep);
         keep
     }
 
@@ -89,19 +83,30 @@ impl RoverVo {
         let mut keep = 0;
         for i in 0..self.track_px.len() {
             if self.motion.is_inlier(i) {
-                self.track_px[keep] = self.track_px[i];
-                self.track_world[keep] = self.track_world[i];
-                self.track_sigma_m[keep] = self.track_sigma_m[i];
-                self.track_id[keep] = self.track_id[i];
+                self.move_track(i, keep, self.track_px[i]);
                 self.corrs[keep] = self.corrs[i];
                 keep += 1;
             }
         }
-        self.track_px.truncate(keep);
-        self.track_world.truncate(keep);
-        self.track_sigma_m.truncate(keep);
-        self.track_id.truncate(keep);
+        self.truncate_tracks(keep);
         self.corrs.truncate(keep);
+    }
+
+    /// Moves track `from` to slot `to` (`to ≤ from`, compacting the map in place), at pixel
+    /// `px`.
+    fn move_track(&mut self, from: usize, to: usize, px: Point2<f32>) {
+        self.track_px[to] = px;
+        self.track_world[to] = self.track_world[from];
+        self.track_sigma_m[to] = self.track_sigma_m[from];
+        self.track_id[to] = self.track_id[from];
+    }
+
+    /// Keeps the first `len` tracks.
+    pub(super) fn truncate_tracks(&mut self, len: usize) {
+        self.track_px.truncate(len);
+        self.track_world.truncate(len);
+        self.track_sigma_m.truncate(len);
+        self.track_id.truncate(len);
     }
 
     /// Detects corners away from the tracks, triangulates them from the current pose and adds

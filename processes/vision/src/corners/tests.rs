@@ -14,17 +14,23 @@ fn textured_pyramid(w: usize, h: usize, blobs: usize, seed: u64) -> Pyramid {
     pyr
 }
 
+/// Up to `max_features` corners at least `min_distance_px` apart over a `grid × grid`
+/// bucketing.
+fn square_grid_config(max_features: usize, grid: usize, min_distance_px: f32) -> CornerConfig {
+    CornerConfig {
+        max_features,
+        grid_cols: grid,
+        grid_rows: grid,
+        min_distance_px,
+        ..CornerConfig::default()
+    }
+}
+
 #[test]
 fn respects_cap_bucketing_and_min_distance() {
     let (w, h) = (160, 160);
     let pyr = textured_pyramid(w, h, 900, 11);
-    let config = CornerConfig {
-        max_features: 120,
-        grid_cols: 4,
-        grid_rows: 4,
-        min_distance_px: 5.0,
-        ..CornerConfig::default()
-    };
+    let config = square_grid_config(120, 4, 5.0);
     let mut det = CornerDetector::new(w, h, config).unwrap();
     let mut out = Vec::new();
     let n = det.detect(pyr.level(0).unwrap(), &[], &mut out).unwrap();
@@ -51,13 +57,7 @@ fn respects_cap_bucketing_and_min_distance() {
 fn keeps_away_from_existing_tracks_and_counts_them() {
     let (w, h) = (128, 128);
     let pyr = textured_pyramid(w, h, 600, 5);
-    let config = CornerConfig {
-        max_features: 60,
-        grid_cols: 2,
-        grid_rows: 2,
-        min_distance_px: 8.0,
-        ..CornerConfig::default()
-    };
+    let config = square_grid_config(60, 2, 8.0);
     let mut det = CornerDetector::new(w, h, config).unwrap();
     let mut first = Vec::new();
     det.detect(pyr.level(0).unwrap(), &[], &mut first).unwrap();
@@ -93,13 +93,7 @@ fn leftover_budget_goes_to_strong_corners() {
     let mut pyr = Pyramid::new(w, h, PyramidConfig::default()).unwrap();
     pyr.build(&ImageView::packed(&pixels, w, h).unwrap())
         .unwrap();
-    let base = CornerConfig {
-        max_features: 100,
-        grid_cols: 4,
-        grid_rows: 4,
-        min_distance_px: 4.0,
-        ..CornerConfig::default()
-    };
+    let base = square_grid_config(100, 4, 4.0);
     let mut strict = Vec::new();
     CornerDetector::new(w, h, base)
         .unwrap()

@@ -16,7 +16,7 @@
 //! assert!(sampson_error_sq(&e, &x1[0], &x2[0]) < 1e-18);
 //! ```
 
-use super::{epipolar_row, hartley_normalization, project_to_essential};
+use super::{epipolar_row, finite_correspondences, hartley_normalization, project_to_essential};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2};
 
 /// Error of the 8-point solver.
@@ -46,9 +46,7 @@ pub fn essential_eight_point(
     if indices.len() < 8 {
         return Err(EightPointError::TooFewPoints { got: indices.len() });
     }
-    if indices.iter().any(|&i| {
-        i >= x1.len() || i >= x2.len() || !x1[i].iter().chain(x2[i].iter()).all(|v| v.is_finite())
-    }) {
+    if !finite_correspondences(x1, x2, indices) {
         return Err(EightPointError::BadInput);
     }
     let t1 = hartley_normalization(x1, indices).ok_or(EightPointError::Degenerate)?;

@@ -326,7 +326,7 @@ mod tests {
     use super::*;
     use crate::essential::{essential_from_pose, sampson_error_sq};
     use crate::rng::XorShiftRng;
-    use nalgebra::{Isometry3, Vector3};
+    use nalgebra::Isometry3;
 
     #[test]
     fn monomial_tables_are_complete() {
@@ -341,16 +341,8 @@ mod tests {
         let trials = 50;
         for trial in 0..trials {
             let pose = Isometry3::new(
-                Vector3::new(
-                    rng.uniform(-1.0, 1.0),
-                    rng.uniform(-1.0, 1.0),
-                    rng.uniform(-1.0, 1.0),
-                ),
-                Vector3::new(
-                    rng.uniform(-0.3, 0.3),
-                    rng.uniform(-0.3, 0.3),
-                    rng.uniform(-0.3, 0.3),
-                ),
+                rng.uniform_vector3(-1.0, 1.0),
+                rng.uniform_vector3(-0.3, 0.3),
             );
             let pts = crate::synthetic::random_points_in_box(5, 2.0, 4.0, 10.0, trial);
             let (x1, x2) = crate::synthetic::exact_views(&pose, &pts);

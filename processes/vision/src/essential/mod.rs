@@ -187,6 +187,18 @@ pub(crate) fn epipolar_row([x1, y1]: [f64; 2], [x2, y2]: [f64; 2]) -> [f64; 9] {
     [x2 * x1, x2 * y1, x2, y2 * x1, y2 * y1, y2, x1, y1, 1.0]
 }
 
+/// Whether every index in `indices` picks a correspondence of `x1 ↔ x2` with finite
+/// coordinates in both views.
+pub(crate) fn finite_correspondences(
+    x1: &[Vector2<f64>],
+    x2: &[Vector2<f64>],
+    indices: &[usize],
+) -> bool {
+    indices.iter().all(|&i| {
+        i < x1.len() && i < x2.len() && x1[i].iter().chain(x2[i].iter()).all(|v| v.is_finite())
+    })
+}
+
 /// Hartley normalisation of the selected points: `T` maps them to zero mean and mean distance
 /// `√2`. `None` if all points coincide or a value is non-finite.
 pub(crate) fn hartley_normalization(

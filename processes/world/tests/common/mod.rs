@@ -5,6 +5,15 @@ use hopnav_world::WorldConfig;
 use hopnav_world::config::MarkerConfig;
 use hopnav_world::raster::RenderConfig;
 
+/// The default world on `size_x_m × size_y_m` of terrain with `golombek_k` of rock cover.
+pub fn sized_world(size_x_m: f64, size_y_m: f64, golombek_k: f64) -> WorldConfig {
+    let mut cfg = WorldConfig::default();
+    cfg.terrain.size_x_m = size_x_m;
+    cfg.terrain.size_y_m = size_y_m;
+    cfg.rocks.golombek_k = golombek_k;
+    cfg
+}
+
 /// A small textured world (16 m, coarse texture) that builds fast in debug builds.
 pub fn small_world(seed: u64) -> WorldConfig {
     let mut cfg = WorldConfig {

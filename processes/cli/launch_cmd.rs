@@ -145,7 +145,8 @@ fn enable_recorder(config: &mut HopnavConfig, option: &str) -> Result<(), ExitCo
     Ok(())
 }
 
-/// `path` made absolute (children run in their own folder), as config text.
+/// `path` made absolute against the launch's folder, as config text: the config the children
+/// read must not depend on their working folder.
 fn absolute(path: &std::path::Path) -> String {
     std::path::absolute(path)
         .unwrap_or_else(|_| path.to_owned())

@@ -22,7 +22,7 @@ pub struct HopnavConfig {
     pub processes: BTreeMap<String, ProcessConfig>,
     /// The latency probe graph.
     pub probe: ProbeConfig,
-    /// The dataset recorder (`--export-dataset`).
+    /// The recorder (`--export-dataset`, `--record`).
     pub recorder: RecorderConfig,
     /// What the mission is: cooperative or rover-only, and when it ends.
     pub mission: MissionConfig,
@@ -128,12 +128,15 @@ pub struct ProbeConfig {
     pub height_px: u32,
 }
 
-/// The dataset recorder.
+/// The recorder: a dataset folder, an MCAP recording, or both.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RecorderConfig {
-    /// Output folder; required when `processes.recorder.enabled`.
+    /// Dataset folder (`--export-dataset`); empty for none.
     pub dir: String,
+    /// MCAP file of every topic (`--record`); empty for none. One of `dir` and `mcap` is
+    /// required when `processes.recorder.enabled`.
+    pub mcap: String,
 }
 
 /// Who explores: both robots, or the rover alone (the baseline the paper compares against).

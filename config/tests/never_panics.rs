@@ -73,7 +73,7 @@ const KNOWN: &[(&str, &[&str])] = &[
         ],
     ),
     ("probe", &["width_px", "height_px"]),
-    ("recorder", &["dir"]),
+    ("recorder", &["dir", "mcap"]),
     ("mission", &["mode", "stop_on_goal"]),
     (
         "processes.physics",

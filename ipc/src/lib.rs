@@ -27,6 +27,7 @@ pub mod stamp;
 pub mod topics;
 pub mod transport;
 pub mod validate;
+pub mod wire;
 
 /// The iceoryx2 service flavour used by every hopnav port: inter-process, shared memory.
 pub type IpcService = iceoryx2::prelude::ipc::Service;

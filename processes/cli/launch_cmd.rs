@@ -36,6 +36,10 @@ pub struct LaunchArgs {
     /// truth into DIR, for external VO tools (enables the recorder process).
     #[arg(long, value_name = "DIR")]
     export_dataset: Option<PathBuf>,
+    /// Record every topic into one MCAP file, in hopnav's own encoding, with the launch's
+    /// config and the build's commit (enables the recorder process; in lockstep it is complete).
+    #[arg(long, value_name = "FILE.mcap")]
+    record: Option<PathBuf>,
     /// Inject a fault (repeatable; adds to faults.inject). Kinds:
     /// kill:PROC@3s (SIGKILL at 3 s of sim time), stall:PROC@5s+800ms (SIGSTOP, SIGCONT
     /// after 800 ms), drop:PROC/TOPIC@10% (the publisher drops 10 % of its samples on
@@ -60,6 +64,11 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         Ok(path) => path,
         Err(code) => return code,
     };
+    let recording = config
+        .processes
+        .get("recorder")
+        .is_some_and(|recorder| recorder.enabled)
+        && !config.recorder.mcap.is_empty();
     let options = LaunchOptions {
         config,
         executable,
@@ -68,7 +77,7 @@ pub fn run(args: LaunchArgs) -> ExitCode {
         show_status: !args.quiet,
         evaluator: Some(std::sync::Arc::new(hopnav_eval::TruthEvaluator)),
     };
-    report(launch(options))
+    report(launch(options), recording)
 }
 
 /// Sets what the command-line options override in `config`; a bad option exits with the
@@ -86,15 +95,26 @@ fn apply_options(args: &LaunchArgs, config: &mut HopnavConfig) -> Result<(), Exi
         config.run.frames = (duration_s * config.run.frame_rate_hz).ceil().max(1.0) as u64;
     }
     if let Some(dir) = &args.export_dataset {
-        let Some(recorder) = config.processes.get_mut("recorder") else {
-            eprintln!("error: --export-dataset needs a [processes.recorder] entry in the config");
+        enable_recorder(config, "--export-dataset")?;
+        config.recorder.dir = absolute(dir);
+    }
+    if let Some(file) = &args.record {
+        enable_recorder(config, "--record")?;
+        config.recorder.mcap = absolute(file);
+    }
+    let recorder_enabled = config
+        .processes
+        .get("recorder")
+        .is_some_and(|recorder| recorder.enabled);
+    let recording = config.recorder.mcap.trim().to_owned();
+    if recorder_enabled && !recording.is_empty() {
+        config.recorder.mcap = absolute(std::path::Path::new(&recording));
+        // Refuse a path that cannot be written before anything starts, not in the recorder.
+        let path = std::path::Path::new(&config.recorder.mcap);
+        if let Err(error) = hopnav_recorder::check_writable(path) {
+            eprintln!("error: {error}");
             return Err(ExitCode::from(crate::EXIT_CONFIG));
-        };
-        recorder.enabled = true;
-        config.recorder.dir = std::path::absolute(dir)
-            .unwrap_or_else(|_| dir.clone())
-            .display()
-            .to_string();
+        }
     }
     config.faults.inject.extend(args.fault.iter().cloned());
     if let Err(error) = config.faults.specs() {
@@ -115,12 +135,39 @@ fn apply_options(args: &LaunchArgs, config: &mut HopnavConfig) -> Result<(), Exi
     Ok(())
 }
 
+/// Turns on the recorder process, which `option` needs.
+fn enable_recorder(config: &mut HopnavConfig, option: &str) -> Result<(), ExitCode> {
+    let Some(recorder) = config.processes.get_mut("recorder") else {
+        eprintln!("error: {option} needs a [processes.recorder] entry in the config");
+        return Err(ExitCode::from(crate::EXIT_CONFIG));
+    };
+    recorder.enabled = true;
+    Ok(())
+}
+
+/// `path` made absolute against the launch's folder, as config text: the config the children
+/// read must not depend on their working folder.
+fn absolute(path: &std::path::Path) -> String {
+    std::path::absolute(path)
+        .unwrap_or_else(|_| path.to_owned())
+        .display()
+        .to_string()
+}
+
 /// Prints the launch's summary and turns its outcome into the exit code.
-fn report(result: Result<LaunchOutcome, LaunchError>) -> ExitCode {
+fn report(result: Result<LaunchOutcome, LaunchError>, recording: bool) -> ExitCode {
     match result {
         Ok(outcome) => {
             let mut stdout = std::io::stdout().lock();
             let _ = outcome.report.print_summary(&mut stdout);
+            if recording {
+                match hopnav_recorder::RecordingSummary::read_from(&outcome.run_dir) {
+                    Some(summary) => {
+                        let _ = summary.print_line(&mut stdout);
+                    }
+                    None => println!("record: FAILED: the recorder left no summary"),
+                }
+            }
             println!("report: {}", outcome.run_dir.join("report.json").display());
             if outcome.interrupted {
                 ExitCode::from(crate::EXIT_INTERRUPTED)

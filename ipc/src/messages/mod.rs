@@ -5,6 +5,8 @@
 //! travel as `u32` codes with checked conversions: an invalid discriminant read from shared
 //! memory would be undefined behaviour, an unknown code is just a rejected sample.
 //! Each file asserts its types' sizes at compile time, so a layout change is a deliberate edit.
+//! Such an edit also bumps the type's layout version in [`crate::wire`], which names it in
+//! recordings.
 
 mod clock;
 mod commands;

@@ -17,6 +17,8 @@ mod slice_subscriber;
 mod subscriber;
 
 pub use error::{OpenError, ReceiveError, SendError};
+/// The bound of every type a port carries, for code generic over ports outside this crate.
+pub use iceoryx2::prelude::ZeroCopySend;
 pub use publisher::Publisher;
 pub use slice_publisher::SlicePublisher;
 pub use slice_subscriber::{SliceSubscriber, ValidSlice};

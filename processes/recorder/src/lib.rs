@@ -1,5 +1,6 @@
-//! The `recorder` process (`hopnav launch --export-dataset DIR`): writes what the sensors
-//! produced, in formats any external VO tool reads (DESIGN.md §6):
+//! The `recorder` process. `hopnav launch --record FILE.mcap` writes every topic into one MCAP
+//! file in hopnav's own encoding ([`recording`]). `hopnav launch --export-dataset DIR` writes
+//! what the sensors produced, in formats any external VO tool reads (DESIGN.md §6):
 //!
 //! - `jumper_cam/NNNNNN.pgm` + `jumper_cam/index.csv` (`frame,t_s,file`)
 //! - `rover_left/…`, `rover_right/…` likewise for the stereo pair
@@ -7,14 +8,19 @@
 //! - `altimeter.csv`, `imu.csv`
 //! - `groundtruth_jumper.tum`, `groundtruth_rover.tum` (`t tx ty tz qx qy qz qw`)
 //!
-//! It only reads shared memory; a sample that fails validation is counted, not written.
+//! It only reads shared memory; a sample that fails validation is counted, not written. It runs
+//! in the last stage of the frame, so in lockstep it reads every sample of every frame.
 #![warn(missing_docs)]
 
+mod dataset;
 pub mod formats;
 mod recorder;
+pub mod recording;
+mod taps;
 mod writers;
 
 pub use recorder::Recorder;
+pub use recording::{RecordingSummary, check_writable};
 
 /// Why the recorder failed.
 #[derive(Debug, thiserror::Error)]
@@ -36,7 +42,25 @@ pub enum RecorderError {
         /// OS error.
         source: std::io::Error,
     },
-    /// No output folder was configured.
-    #[error("config key recorder.dir is empty: pass --export-dataset DIR")]
-    NoDirectory,
+    /// Neither a dataset folder nor a recording file was configured.
+    #[error(
+        "config keys recorder.dir and recorder.mcap are empty: pass --export-dataset DIR or --record FILE.mcap"
+    )]
+    NoOutput,
+    /// The recording file cannot be created or written.
+    #[error("cannot write the recording {path}: {source}")]
+    Unwritable {
+        /// The file.
+        path: String,
+        /// OS error.
+        source: std::io::Error,
+    },
+    /// The MCAP writer refused a record.
+    #[error("recording {path}: {reason}")]
+    Mcap {
+        /// The file.
+        path: String,
+        /// The writer's error.
+        reason: String,
+    },
 }

@@ -1,0 +1,19 @@
+//! The MCAP recording (`hopnav launch --record FILE.mcap`): every tapped topic as its own
+//! channel, each message in hopnav's wire encoding ([`hopnav_ipc::wire`]: the bytes as they
+//! lie in shared memory, so a replay is lossless), lz4-compressed chunks, and the launch's
+//! config and the build's commit as metadata.
+//!
+//! A write error (a full disk) stops the recording, not the recorder: it is named on stderr
+//! and in the summary, and the mission goes on.
+
+mod summary;
+mod writer;
+
+pub use summary::{ChannelSummary, RecordingSummary};
+pub use writer::{ChannelSpec, McapRecording, check_writable};
+
+/// The commit the binary was built from, `unknown` without git at build time.
+pub const BUILD_COMMIT: &str = match option_env!("HOPNAV_GIT_COMMIT") {
+    Some(commit) => commit,
+    None => "unknown",
+};

@@ -1,0 +1,268 @@
+//! Writes samples into an MCAP file and counts what it wrote and what it missed.
+
+use std::collections::BTreeMap;
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use hopnav_ipc::messages::SampleStamp;
+use hopnav_ipc::validate::{Message, SliceHeader};
+use hopnav_ipc::wire::{self, WireBytes};
+
+use super::summary::{ChannelSummary, RecordingSummary};
+use crate::RecorderError;
+
+/// One channel to create: its topic and the schema of its messages.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChannelSpec {
+    /// Topic name, e.g. `hopnav/camera/jumper`.
+    pub topic: String,
+    /// Schema name with type and layout version, e.g. `hopnav.ImageHeader.v1+u8[]`.
+    pub schema_name: String,
+    /// Human-readable layout, the schema's data.
+    pub schema_text: String,
+}
+
+/// What one channel received.
+#[derive(Debug)]
+struct ChannelCount {
+    spec: ChannelSpec,
+    mcap_id: u16,
+    messages: u64,
+    /// Samples skipped in the publisher's sequence: overwritten before the recorder read
+    /// them, or dropped upstream.
+    missed: u64,
+    last_sequence: Option<u64>,
+}
+
+impl ChannelCount {
+    fn note_sequence(&mut self, sequence: u64) {
+        // A lower sequence is a restarted publisher counting afresh: no gap to count.
+        if let Some(last) = self.last_sequence
+            && sequence > last
+        {
+            self.missed += sequence - last - 1;
+        }
+        self.last_sequence = Some(sequence);
+    }
+}
+
+/// An MCAP file being written (into `W`: a buffered file, or a test's sink).
+pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
+    path: PathBuf,
+    writer: Option<mcap::Writer<W>>,
+    channels: Vec<ChannelCount>,
+    /// Why the recording stopped early.
+    failure: Option<String>,
+    /// One message's bytes, reused.
+    buffer: Vec<u8>,
+}
+
+/// The writer's error and its causes (an I/O error says what the OS refused).
+fn describe(error: &mcap::McapError) -> String {
+    let mut text = error.to_string();
+    let mut source = std::error::Error::source(error);
+    while let Some(cause) = source {
+        text.push_str(&format!(": {cause}"));
+        source = cause.source();
+    }
+    text
+}
+
+/// Checks that `path` can be written as a recording, creating nothing that was not there.
+pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
+    let unwritable = |source| RecorderError::Unwritable {
+        path: path.display().to_string(),
+        source,
+    };
+    if path.is_dir() {
+        return Err(unwritable(std::io::Error::new(
+            std::io::ErrorKind::IsADirectory,
+            "is a folder, not a file",
+        )));
+    }
+    let existed = path.exists();
+    OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .map_err(unwritable)?;
+    if !existed {
+        std::fs::remove_file(path).map_err(unwritable)?;
+    }
+    Ok(())
+}
+
+impl McapRecording {
+    /// Creates `path` with one channel per spec (indexed as given) and the metadata records.
+    pub fn create(
+        path: &Path,
+        channels: &[ChannelSpec],
+        metadata: &[(&str, BTreeMap<String, String>)],
+    ) -> Result<Self, RecorderError> {
+        let file = File::create(path).map_err(|source| RecorderError::Unwritable {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::into_sink(path, BufWriter::new(file), channels, metadata)
+    }
+}
+
+impl<W: Write + Seek> McapRecording<W> {
+    /// Starts a recording named `path` in `sink`.
+    pub fn into_sink(
+        path: &Path,
+        sink: W,
+        channels: &[ChannelSpec],
+        metadata: &[(&str, BTreeMap<String, String>)],
+    ) -> Result<Self, RecorderError> {
+        let mcap_error = |error: mcap::McapError| RecorderError::Mcap {
+            path: path.display().to_string(),
+            reason: describe(&error),
+        };
+        let mut writer = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Lz4))
+            .profile("hopnav")
+            .create(sink)
+            .map_err(mcap_error)?;
+        let mut counts = Vec::with_capacity(channels.len());
+        for spec in channels {
+            let schema_id = writer
+                .add_schema(
+                    &spec.schema_name,
+                    wire::SCHEMA_ENCODING,
+                    spec.schema_text.as_bytes(),
+                )
+                .map_err(mcap_error)?;
+            let mcap_id = writer
+                .add_channel(
+                    schema_id,
+                    &spec.topic,
+                    wire::MESSAGE_ENCODING,
+                    &BTreeMap::new(),
+                )
+                .map_err(mcap_error)?;
+            counts.push(ChannelCount {
+                spec: spec.clone(),
+                mcap_id,
+                messages: 0,
+                missed: 0,
+                last_sequence: None,
+            });
+        }
+        for (name, entries) in metadata {
+            writer
+                .write_metadata(&mcap::records::Metadata {
+                    name: (*name).to_owned(),
+                    metadata: entries.clone(),
+                })
+                .map_err(mcap_error)?;
+        }
+        Ok(Self {
+            path: path.to_owned(),
+            writer: Some(writer),
+            channels: counts,
+            failure: None,
+            buffer: Vec::new(),
+        })
+    }
+
+    /// Records a fixed-size message on channel `channel`.
+    pub fn record_message<M: Message + WireBytes>(&mut self, channel: usize, message: &M) {
+        self.buffer.clear();
+        self.buffer.extend_from_slice(wire::bytes_of(message));
+        self.write(channel, *message.stamp());
+    }
+
+    /// Records a slice sample (header, then elements) on channel `channel`.
+    pub fn record_slice<H: SliceHeader + WireBytes>(
+        &mut self,
+        channel: usize,
+        header: &H,
+        elements: &[H::Element],
+    ) where
+        H::Element: WireBytes,
+    {
+        self.buffer.clear();
+        self.buffer.extend_from_slice(wire::bytes_of(header));
+        self.buffer.extend_from_slice(wire::slice_bytes(elements));
+        self.write(channel, *header.stamp());
+    }
+
+    /// Writes `self.buffer` stamped with the sample's sim time and frame.
+    fn write(&mut self, channel: usize, stamp: SampleStamp) {
+        let Some(count) = self.channels.get_mut(channel) else {
+            return;
+        };
+        count.note_sequence(stamp.sequence);
+        let Some(writer) = &mut self.writer else {
+            return;
+        };
+        let header = mcap::records::MessageHeader {
+            channel_id: count.mcap_id,
+            sequence: u32::try_from(stamp.frame_index).unwrap_or(u32::MAX),
+            log_time: stamp.sim_time_ns,
+            publish_time: stamp.sim_time_ns,
+        };
+        match writer.write_to_known_channel(&header, &self.buffer) {
+            Ok(()) => count.messages += 1,
+            Err(error) => self.fail(&error),
+        }
+    }
+
+    /// Stops recording after a write error; the file keeps what was written before it.
+    fn fail(&mut self, error: &mcap::McapError) {
+        let reason = format!(
+            "recording {} stopped: {}",
+            self.path.display(),
+            describe(error)
+        );
+        eprintln!("[recorder] {reason}");
+        self.failure = Some(reason);
+        // Dropping the writer tries to finish the file; after a write error that may fail too.
+        self.writer = None;
+    }
+
+    /// Whether the recording still writes.
+    pub fn is_writing(&self) -> bool {
+        self.writer.is_some()
+    }
+
+    /// Finishes the file (summary section, footer) and returns what was recorded;
+    /// `rejected` is the subscribers' rejection counts per channel.
+    pub fn finish(&mut self, rejected: &[u64]) -> RecordingSummary {
+        if let Some(mut writer) = self.writer.take()
+            && let Err(error) = writer.finish()
+        {
+            let reason = format!(
+                "recording {} could not be finished: {}",
+                self.path.display(),
+                describe(&error)
+            );
+            eprintln!("[recorder] {reason}");
+            self.failure = Some(reason);
+        }
+        let file_size_bytes = std::fs::metadata(&self.path).map_or(0, |meta| meta.len());
+        RecordingSummary {
+            path: self.path.display().to_string(),
+            file_size_bytes,
+            channels: self
+                .channels
+                .iter()
+                .enumerate()
+                .map(|(index, count)| ChannelSummary {
+                    topic: count.spec.topic.clone(),
+                    schema: count.spec.schema_name.clone(),
+                    messages: count.messages,
+                    missed: count.missed,
+                    rejected: rejected.get(index).copied().unwrap_or(0),
+                })
+                .collect(),
+            error: self.failure.clone(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

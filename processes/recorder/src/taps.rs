@@ -1,0 +1,182 @@
+//! Every topic the recorder reads, each with the index of its recording channel.
+//!
+//! The relays (`hopnav/resume/…`) repeat topics listed here, and heartbeats and frame steps are
+//! the supervisor's bookkeeping, so none of them is tapped.
+
+use hopnav_ipc::messages::{
+    AltimeterSample, BodyStates, CloudHeader, Control, DriveCommand, HopLaunch, ImageHeader,
+    ImuSample, JumpRequest, MapHeader, PathHeader, PhysicsState, PoseEstimate,
+};
+use hopnav_ipc::process_loop::ProcessContext;
+use hopnav_ipc::topics::{self, TopicSpec};
+use hopnav_ipc::transport::{SliceSubscriber, Subscriber, ValidSlice, ZeroCopySend};
+use hopnav_ipc::validate::{Message, SliceHeader};
+use hopnav_ipc::wire::{self, WireBytes};
+
+use crate::RecorderError;
+use crate::recording::{ChannelSpec, McapRecording};
+
+/// A subscriber of fixed-size messages and its channel.
+pub struct MessageTap<M: Message + ZeroCopySend> {
+    subscriber: Subscriber<M>,
+    channel: usize,
+}
+
+/// A subscriber of slices and its channel.
+pub struct SliceTap<H: SliceHeader + ZeroCopySend>
+where
+    H::Element: ZeroCopySend,
+{
+    subscriber: SliceSubscriber<H>,
+    channel: usize,
+}
+
+impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
+    fn open(
+        context: &ProcessContext,
+        spec: &TopicSpec,
+        channels: &mut Vec<ChannelSpec>,
+    ) -> Result<Self, RecorderError> {
+        channels.push(ChannelSpec {
+            topic: spec.name.to_string(),
+            schema_name: wire::schema_name::<M>(),
+            schema_text: wire::schema_text::<M>(),
+        });
+        Ok(Self {
+            subscriber: Subscriber::open(&context.node, spec)?,
+            channel: channels.len() - 1,
+        })
+    }
+
+    /// Records every pending sample and hands each to `also`.
+    pub fn drain(
+        &self,
+        recording: &mut Option<McapRecording>,
+        mut also: impl FnMut(&M) -> Result<(), RecorderError>,
+    ) -> Result<(), RecorderError> {
+        while let Some(message) = self.subscriber.receive()? {
+            if let Some(recording) = recording {
+                recording.record_message(self.channel, &message);
+            }
+            also(&message)?;
+        }
+        Ok(())
+    }
+
+    fn rejected(&self) -> u64 {
+        self.subscriber.rejected().total()
+    }
+}
+
+impl<H: SliceHeader + ZeroCopySend + WireBytes> SliceTap<H>
+where
+    H::Element: ZeroCopySend + WireBytes,
+{
+    fn open(
+        context: &ProcessContext,
+        spec: &TopicSpec,
+        channels: &mut Vec<ChannelSpec>,
+    ) -> Result<Self, RecorderError> {
+        channels.push(ChannelSpec {
+            topic: spec.name.to_string(),
+            schema_name: wire::slice_schema_name::<H, H::Element>(),
+            schema_text: wire::slice_schema_text::<H, H::Element>(),
+        });
+        Ok(Self {
+            subscriber: SliceSubscriber::open(&context.node, spec)?,
+            channel: channels.len() - 1,
+        })
+    }
+
+    /// Records every pending sample (read in place) and hands each to `also`.
+    pub fn drain(
+        &self,
+        recording: &mut Option<McapRecording>,
+        mut also: impl FnMut(&ValidSlice<H>) -> Result<(), RecorderError>,
+    ) -> Result<(), RecorderError> {
+        while let Some(sample) = self.subscriber.receive()? {
+            if let Some(recording) = recording {
+                recording.record_slice(self.channel, sample.header(), sample.elements());
+            }
+            also(&sample)?;
+        }
+        Ok(())
+    }
+
+    fn rejected(&self) -> u64 {
+        self.subscriber.rejected().total()
+    }
+}
+
+/// The tapped topics, in the order of their channels.
+#[allow(missing_docs)] // each field is named after its topic
+pub struct Taps {
+    pub body_states: MessageTap<BodyStates>,
+    pub altimeter: MessageTap<AltimeterSample>,
+    pub imu: MessageTap<ImuSample>,
+    pub physics_state: MessageTap<PhysicsState>,
+    pub hop_launches: MessageTap<HopLaunch>,
+    pub jumper_images: SliceTap<ImageHeader>,
+    pub rover_stereo: SliceTap<ImageHeader>,
+    pub jumper_poses: MessageTap<PoseEstimate>,
+    pub rover_poses: MessageTap<PoseEstimate>,
+    pub jumper_clouds: SliceTap<CloudHeader>,
+    pub rover_clouds: SliceTap<CloudHeader>,
+    pub map_updates: SliceTap<MapHeader>,
+    pub map_snapshots: SliceTap<MapHeader>,
+    pub paths: SliceTap<PathHeader>,
+    pub drive_commands: MessageTap<DriveCommand>,
+    pub jump_requests: MessageTap<JumpRequest>,
+    pub control: MessageTap<Control>,
+}
+
+impl Taps {
+    /// Opens a subscriber on every tapped topic; returns the taps and their channels, indexed
+    /// as the taps name them.
+    pub fn open(context: &ProcessContext) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
+        let mut channels = Vec::new();
+        let taps = Self {
+            body_states: MessageTap::open(context, &topics::BODY_STATES, &mut channels)?,
+            altimeter: MessageTap::open(context, &topics::ALTIMETER, &mut channels)?,
+            imu: MessageTap::open(context, &topics::IMU, &mut channels)?,
+            physics_state: MessageTap::open(context, &topics::PHYSICS_STATE, &mut channels)?,
+            hop_launches: MessageTap::open(context, &topics::HOP_LAUNCH, &mut channels)?,
+            jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?,
+            rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?,
+            jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?,
+            rover_poses: MessageTap::open(context, &topics::ROVER_POSE, &mut channels)?,
+            jumper_clouds: SliceTap::open(context, &topics::JUMPER_CLOUD, &mut channels)?,
+            rover_clouds: SliceTap::open(context, &topics::ROVER_CLOUD, &mut channels)?,
+            map_updates: SliceTap::open(context, &topics::MAP_UPDATES, &mut channels)?,
+            map_snapshots: SliceTap::open(context, &topics::MAP_SNAPSHOT, &mut channels)?,
+            paths: SliceTap::open(context, &topics::PATH, &mut channels)?,
+            drive_commands: MessageTap::open(context, &topics::DRIVE_COMMAND, &mut channels)?,
+            jump_requests: MessageTap::open(context, &topics::JUMP_REQUEST, &mut channels)?,
+            control: MessageTap::open(context, &topics::CONTROL, &mut channels)?,
+        };
+        Ok((taps, channels))
+    }
+
+    /// Samples rejected per channel (invalid or out of sequence), indexed like the channels.
+    pub fn rejected_per_channel(&self) -> Vec<u64> {
+        vec![
+            self.body_states.rejected(),
+            self.altimeter.rejected(),
+            self.imu.rejected(),
+            self.physics_state.rejected(),
+            self.hop_launches.rejected(),
+            self.jumper_images.rejected(),
+            self.rover_stereo.rejected(),
+            self.jumper_poses.rejected(),
+            self.rover_poses.rejected(),
+            self.jumper_clouds.rejected(),
+            self.rover_clouds.rejected(),
+            self.map_updates.rejected(),
+            self.map_snapshots.rejected(),
+            self.paths.rejected(),
+            self.drive_commands.rejected(),
+            self.jump_requests.rejected(),
+            self.control.rejected(),
+        ]
+    }
+}

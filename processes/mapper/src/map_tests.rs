@@ -1,6 +1,7 @@
 //! Scenario tests of [`FeatureMap`]: rocks on sloped ground, diffs, bad input, bounded memory.
 
 use super::*;
+use hopnav_ipc::messages::FeaturePoint;
 
 /// The first mapper's rule on 0.5 m cells (the `traversability` model has its own tests).
 fn config() -> MapperConfig {

@@ -20,3 +20,4 @@ pub mod pipeline;
 pub mod run;
 pub mod simulate;
 pub mod stereo;
+mod stereo_patch;

@@ -244,11 +244,11 @@ impl FeatureMap {
                 .is_some_and(|belief| belief.extent_m().is_none() && !belief.lethal)
     }
 
-    /// The footprint cost of cell `index` measured from the edge of the fitted rocks near it
-    /// (the kernel measures from whole cells, which a rock's base covers only in part):
-    /// lethal rocks at full cost, uncertain ones as [`Self::uncertain_footprint_cost`] says
-    /// (`None` without fitted rocks).
-    pub(super) fn cost_from_fitted_rocks(&self, index: usize) -> Option<Reach> {
+    /// What the fitted rocks near cell `index` do to it, measured from their edges (the kernel
+    /// measures from whole cells, which a rock's base covers only in part): lethal rocks at
+    /// full cost, uncertain ones as [`Self::reach_of_uncertain`] says (`None` without fitted
+    /// rocks).
+    pub(super) fn reach_of_fitted_rocks(&self, index: usize) -> Option<Reach> {
         let (domes, layer, costs) = (
             self.domes.as_ref()?,
             self.beliefs.as_ref()?,
@@ -270,26 +270,20 @@ impl FeatureMap {
         worst
     }
 
-    /// What a maybe-too-tall rock costs where a surely-too-tall one would cost
-    /// `(cost, lethal)`. Within the inscribed radius the body touches it whatever the
-    /// heading: as much a risk as driving onto it, so `uncertain_cost` (half the band's cost
-    /// made crossing its ring cheaper than crossing the rock, and the rover drove into such
-    /// rocks). Farther out only some headings touch it: half the cost.
-    fn uncertain_footprint_cost(&self, (cost, lethal): (u32, bool)) -> u32 {
-        if lethal {
-            self.thresholds.uncertain_cost.max(cost / 2)
-        } else {
-            cost / 2
-        }
-    }
-
     /// What a maybe-too-tall rock does to a cell where a surely-too-tall one would cost
-    /// `share`: its cost, and whether the body would touch it whatever the heading.
-    fn reach_of_uncertain(&self, share: (u32, bool)) -> Reach {
+    /// `(cost, lethal)`. Within the inscribed radius the body touches it whatever the heading:
+    /// the cell is uncertain and costs `uncertain_cost`, as much a risk as driving onto the rock
+    /// (half the band's cost made crossing its ring cheaper than crossing the rock, and the
+    /// rover drove into such rocks). Farther out only some headings touch it: half the cost.
+    fn reach_of_uncertain(&self, (cost, within_inscribed): (u32, bool)) -> Reach {
         Reach {
-            cost: self.uncertain_footprint_cost(share),
+            cost: if within_inscribed {
+                self.thresholds.uncertain_cost.max(cost / 2)
+            } else {
+                cost / 2
+            },
             lethal: false,
-            uncertain: share.1,
+            uncertain: within_inscribed,
         }
     }
 
@@ -354,7 +348,7 @@ impl FeatureMap {
                 _ => {}
             }
         }
-        if let Some(fitted) = self.cost_from_fitted_rocks(index) {
+        if let Some(fitted) = self.reach_of_fitted_rocks(index) {
             reach = reach.max(fitted);
         }
         if base.class == BaseClass::Uncertain {

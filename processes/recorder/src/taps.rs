@@ -31,20 +31,35 @@ where
     channel: usize,
 }
 
+/// Adds the recording channel of topic `spec` with its schema; returns the channel's index.
+fn add_channel(
+    channels: &mut Vec<ChannelSpec>,
+    spec: &TopicSpec,
+    schema_name: String,
+    schema_text: String,
+) -> usize {
+    channels.push(ChannelSpec {
+        topic: spec.name.to_string(),
+        schema_name,
+        schema_text,
+    });
+    channels.len() - 1
+}
+
 impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
     fn open(
         context: &ProcessContext,
         spec: &TopicSpec,
         channels: &mut Vec<ChannelSpec>,
     ) -> Result<Self, RecorderError> {
-        channels.push(ChannelSpec {
-            topic: spec.name.to_string(),
-            schema_name: wire::schema_name::<M>(),
-            schema_text: wire::schema_text::<M>(),
-        });
         Ok(Self {
             subscriber: Subscriber::open(&context.node, spec)?,
-            channel: channels.len() - 1,
+            channel: add_channel(
+                channels,
+                spec,
+                wire::schema_name::<M>(),
+                wire::schema_text::<M>(),
+            ),
         })
     }
 
@@ -77,14 +92,14 @@ where
         spec: &TopicSpec,
         channels: &mut Vec<ChannelSpec>,
     ) -> Result<Self, RecorderError> {
-        channels.push(ChannelSpec {
-            topic: spec.name.to_string(),
-            schema_name: wire::slice_schema_name::<H, H::Element>(),
-            schema_text: wire::slice_schema_text::<H, H::Element>(),
-        });
         Ok(Self {
             subscriber: SliceSubscriber::open(&context.node, spec)?,
-            channel: channels.len() - 1,
+            channel: add_channel(
+                channels,
+                spec,
+                wire::slice_schema_name::<H, H::Element>(),
+                wire::slice_schema_text::<H, H::Element>(),
+            ),
         })
     }
 

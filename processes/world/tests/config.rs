@@ -1,5 +1,7 @@
 //! Configuration: defaults and shipped scenarios validate; bad values name their key.
 
+mod common;
+
 use hopnav_world::camera::CameraConfig;
 use hopnav_world::raster::{RenderConfig, Renderer};
 use hopnav_world::{ConfigError, World, WorldConfig};
@@ -110,28 +112,17 @@ fn toml_partial_files_and_typos() {
 
 #[test]
 fn shipped_scenarios_validate() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../config/scenarios");
     for name in ["default", "rocky", "fig6"] {
-        let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).unwrap();
-        let cfg: WorldConfig = world_table(&text);
+        let cfg = common::scenario_world(name);
         cfg.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
     }
-    let default: WorldConfig =
-        world_table(&std::fs::read_to_string(format!("{dir}/default.toml")).unwrap());
+    let default = common::scenario_world("default");
     assert_eq!(
         default,
         WorldConfig::default(),
         "default.toml must equal the built-in defaults"
     );
-    let fig6: WorldConfig =
-        world_table(&std::fs::read_to_string(format!("{dir}/fig6.toml")).unwrap());
+    let fig6 = common::scenario_world("fig6");
     assert_eq!(fig6.scenario.start_m, Some([-12.0, 0.0]));
     assert_eq!(fig6.rocks.clusters.len(), 1);
-}
-
-/// The `[world]` table of a hopnav scenario file (`config/scenarios/*.toml`).
-fn world_table(text: &str) -> WorldConfig {
-    let mut table: toml::Table = toml::from_str(text).expect("scenario is TOML");
-    let world = table.remove("world").expect("scenario has a [world] table");
-    world.try_into().expect("valid world table")
 }

@@ -5,16 +5,11 @@ use hopnav_world::landforms::{scarp::place_scarp, scenario_frame};
 use hopnav_world::rocks::RockSource;
 use hopnav_world::{World, WorldConfig};
 
-/// The `[world]` table of `config/scenarios/NAME.toml`, with `seed`.
+mod common;
+
+/// The `[world]` table of `config/scenarios/NAME.toml`, with `seed`, validated.
 fn scenario(name: &str, seed: u64) -> WorldConfig {
-    let path = format!(
-        "{}/../../config/scenarios/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).expect("scenario file");
-    let mut table: toml::Table = toml::from_str(&text).expect("scenario is TOML");
-    let world = table.remove("world").expect("scenario has a [world] table");
-    let mut config: WorldConfig = world.try_into().expect("valid world table");
+    let mut config = common::scenario_world(name);
     config.seed = seed;
     config.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
     config

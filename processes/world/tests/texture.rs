@@ -76,12 +76,7 @@ fn ground_texture_has_corners_near_and_far() {
 
 #[test]
 fn fig6_rock_wall_hides_the_goal_from_the_start() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../config/scenarios/fig6.toml"
-    ))
-    .unwrap();
-    let mut cfg: WorldConfig = world_table(&text);
+    let mut cfg = common::scenario_world("fig6");
     cfg.texture.texel_m = 0.1; // geometry matters here, not texture detail
     cfg.texture.pebble_density_per_m2 = 0.0;
     let world = World::generate(&cfg).unwrap();
@@ -109,11 +104,4 @@ fn fig6_rock_wall_hides_the_goal_from_the_start() {
         iz > 0.0 && hit < dist * 0.75,
         "the goal must be hidden: hit at {hit} m, goal {dist} m"
     );
-}
-
-/// The `[world]` table of a hopnav scenario file (`config/scenarios/*.toml`).
-fn world_table(text: &str) -> WorldConfig {
-    let mut table: toml::Table = toml::from_str(text).expect("scenario is TOML");
-    let world = table.remove("world").expect("scenario has a [world] table");
-    world.try_into().expect("valid world table")
 }

@@ -96,16 +96,13 @@ impl Scarp {
 
 /// Adds the scarp to the heightfield.
 pub fn apply_scarp(hf: &mut Heightfield, scarp: &Scarp, config: &ScarpConfig, frame: &AbFrame) {
-    let nx = hf.nx();
-    let deltas: Vec<f64> = (0..hf.ny())
-        .flat_map(|j| (0..nx).map(move |i| (i, j)))
-        .map(|(i, j)| {
-            let (along_m, side_m) = frame.local_m(hf.node_xy_m(i, j));
-            scarp.delta_z_m(config, along_m, side_m)
-        })
-        .collect();
-    for (height, delta) in hf.heights_mut().iter_mut().zip(deltas) {
-        *height += delta;
+    let (nx, [ox, oy], spacing_m) = (hf.nx(), hf.origin_m(), hf.spacing_m());
+    for (index, height) in hf.heights_mut().iter_mut().enumerate() {
+        // Node (i, j) of the row-major grid, at `node_xy_m(i, j)`.
+        let (i, j) = (index % nx, index / nx);
+        let node_m = [ox + i as f64 * spacing_m, oy + j as f64 * spacing_m];
+        let (along_m, side_m) = frame.local_m(node_m);
+        *height += scarp.delta_z_m(config, along_m, side_m);
     }
 }
 

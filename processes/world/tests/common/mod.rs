@@ -74,3 +74,15 @@ pub fn centroid(
     }
     (n > 0).then(|| [sx / n as f64, sy / n as f64])
 }
+
+/// The `[world]` table of the shipped scenario `config/scenarios/NAME.toml` (not validated).
+pub fn scenario_world(name: &str) -> WorldConfig {
+    let path = format!(
+        "{}/../../config/scenarios/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).expect("scenario file");
+    let mut table: toml::Table = toml::from_str(&text).expect("scenario is TOML");
+    let world = table.remove("world").expect("scenario has a [world] table");
+    world.try_into().expect("valid world table")
+}

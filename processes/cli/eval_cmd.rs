@@ -12,9 +12,11 @@ use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
 #[derive(Debug, Subcommand)]
 pub enum EvalCommand {
     /// Jumper VO on the Table 1 hop (10 m/s at 60°, σ = 1 m altimeter): renders the hop with
-    /// the world renderer along the analytic trajectory for each seed, runs the VO with the
-    /// default scale method and with the paper's eq. (4), and reports ATE (Sim(3) and SE(3)),
-    /// RPE and final error; writes TUM files and a Fig. 5-style PNG.
+    /// the world renderer along the analytic trajectory for each seed, runs the default VO,
+    /// the same without its local bundle adjustment, and the paper's eq. (4), and reports ATE
+    /// (Sim(3) and SE(3)), RPE and final error; then a tumbling launch (a rock-turned hop
+    /// spinning at 10–30 rad/s) and hops in a row (error growth hop by hop). Writes TUM files,
+    /// a Fig. 5-style PNG and eval_vo.json.
     Vo(VoArgs),
     /// Rover stereo VO on a rendered ~56 m traverse of the default terrain (IMU roll/pitch
     /// prior): drift in % of distance, ATE (Sim(3), SE(3)), RPE; TUM files and a top-view PNG.
@@ -42,6 +44,13 @@ pub struct VoArgs {
     /// Folder for TUM files, the PNGs and eval_vo.json.
     #[arg(long, default_value = "runs/eval-vo")]
     out: PathBuf,
+    /// Hops of the hops-in-a-row case (each starts where the VO believed the last one
+    /// landed); 0 skips it.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(0..=100))]
+    hops: u64,
+    /// Skip the tumbling-launch case.
+    #[arg(long)]
+    no_tumbling: bool,
     /// Evaluate a recorded launch instead (a folder written by `hopnav launch
     /// --export-dataset DIR`): the live jumper_vo estimate against the physics ground truth.
     #[arg(long, value_name = "DIR")]
@@ -77,11 +86,11 @@ fn hop_for_seed(seed: u64) -> Result<SimulatedHop, String> {
 
 fn write_outputs(
     out: &std::path::Path,
-    method: ScaleMethod,
+    variant: VoVariant,
     hop: &SimulatedHop,
     run: &HopRun,
 ) -> Result<(), String> {
-    let name = out.join(format!("{method:?}").to_lowercase());
+    let name = out.join(variant.name());
     let estimate: Vec<_> = hop.t_s.iter().copied().zip(run.poses()).collect();
     let truth: Vec<_> = hop
         .t_s
@@ -101,19 +110,82 @@ fn write_outputs(
     .map_err(|e| e.to_string())
 }
 
-/// The scale methods `eval vo` compares: the default, then the paper's eq. (4).
-const VO_METHODS: [ScaleMethod; 2] = [ScaleMethod::Ballistic, ScaleMethod::PaperEq4];
+/// The VO variants `eval vo` compares in one run: the default, the same without its local
+/// bundle adjustment, and the paper's eq. (4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum VoVariant {
+    /// The default: ballistic scale with the local bundle adjustment.
+    Default,
+    /// Ballistic scale, the fits alone (`bundle_adjustment = false`).
+    FitsOnly,
+    /// The paper's eq. (4) scale (no adjustment).
+    PaperEq4,
+}
 
-/// One VO run's report: its scale method and seed.
-type SeedReport = (ScaleMethod, u64, VoReport);
+const VO_VARIANTS: [VoVariant; 3] = [VoVariant::Default, VoVariant::FitsOnly, VoVariant::PaperEq4];
+
+impl VoVariant {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Default => "default",
+            Self::FitsOnly => "fits-only",
+            Self::PaperEq4 => "papereq4",
+        }
+    }
+
+    fn config(self) -> JumperVoConfig {
+        let base = JumperVoConfig::default();
+        match self {
+            Self::Default => base,
+            Self::FitsOnly => JumperVoConfig {
+                bundle_adjustment: false,
+                ..base
+            },
+            Self::PaperEq4 => JumperVoConfig {
+                scale_method: ScaleMethod::PaperEq4,
+                bundle_adjustment: false,
+                ..base
+            },
+        }
+    }
+
+    /// What the summary line says after the figures.
+    fn verdict(self, worst_ate_m: f64) -> &'static str {
+        match self {
+            Self::Default if worst_ate_m <= 0.25 => "  (target <= 0.25 m: met)",
+            Self::Default => "  (target <= 0.25 m: NOT met)",
+            Self::FitsOnly => "  (the default without its bundle adjustment)",
+            Self::PaperEq4 => "  (the paper's eq. 4 baseline)",
+        }
+    }
+}
+
+/// One VO run's report: its variant and seed.
+type SeedReport = (VoVariant, u64, VoReport);
 
 fn vo(args: &VoArgs) -> Result<(), String> {
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let reports = run_vo_seeds(args)?;
     print_seed_table(&reports);
     let mut summary = serde_json::Map::new();
-    for method in VO_METHODS {
-        summary.insert(format!("{method:?}"), method_summary(method, &reports));
+    for variant in VO_VARIANTS {
+        summary.insert(
+            variant.name().to_string(),
+            method_summary(variant, &reports),
+        );
+    }
+    println!();
+    if !args.no_tumbling {
+        summary.insert(
+            "tumbling".to_owned(),
+            crate::eval_vo_cases_cmd::tumbling(args.seeds)?,
+        );
+    }
+    if args.hops > 0 {
+        summary.insert(
+            "hops_in_a_row".to_owned(),
+            crate::eval_vo_cases_cmd::in_a_row(args.seeds, args.hops as usize)?,
+        );
     }
     let json_path = args.out.join("eval_vo.json");
     std::fs::write(
@@ -122,7 +194,7 @@ fn vo(args: &VoArgs) -> Result<(), String> {
     )
     .map_err(|e| format!("{}: {e}", json_path.display()))?;
     println!(
-        "wrote {}/{{ballistic,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
+        "wrote {}/{{default,fits-only,papereq4}}_{{estimate,truth}}.tum, *_fig5.png and eval_vo.json",
         args.out.display()
     );
     Ok(())
@@ -138,22 +210,20 @@ fn run_vo_seeds(args: &VoArgs) -> Result<Vec<SeedReport>, String> {
             args.seeds
         );
         let hop = hop_for_seed(seed)?;
-        for method in VO_METHODS {
+        for variant in VO_VARIANTS {
             eprint!(
-                "\rseed {seed}/{}: VO with {method:?} scale …      ",
-                args.seeds
+                "\rseed {seed}/{}: VO {} …               ",
+                args.seeds,
+                variant.name()
             );
-            let config = JumperVoConfig {
-                scale_method: method,
-                ..JumperVoConfig::default()
-            };
+            let config = variant.config();
             let run = run_hop(&hop, &config).map_err(|e| e.to_string())?;
             let report = evaluate(&run.outputs, &hop.truth_world_from_body)
                 .ok_or_else(|| format!("seed {seed}: too few frames to evaluate"))?;
             if seed == 1 {
-                write_outputs(&args.out, method, &hop, &run)?;
+                write_outputs(&args.out, variant, &hop, &run)?;
             }
-            reports.push((method, seed, report));
+            reports.push((variant, seed, report));
         }
     }
     eprintln!();
@@ -164,7 +234,7 @@ fn run_vo_seeds(args: &VoArgs) -> Result<Vec<SeedReport>, String> {
 fn print_seed_table(reports: &[SeedReport]) {
     println!(
         "\n{:<10} {:>5} {:>12} {:>12} {:>12} {:>11} {:>10} {:>9}",
-        "scale",
+        "variant",
         "seed",
         "ATE Sim3 m",
         "ATE SE3 m",
@@ -173,10 +243,10 @@ fn print_seed_table(reports: &[SeedReport]) {
         "final m",
         "max rot°"
     );
-    for (method, seed, report) in reports {
+    for (variant, seed, report) in reports {
         println!(
             "{:<10} {:>5} {:>12.3} {:>12.3} {:>12.3} {:>11.3} {:>10.3} {:>9.2}",
-            format!("{method:?}"),
+            variant.name(),
             seed,
             report.ate_sim3_m,
             report.ate_se3_m,
@@ -189,12 +259,12 @@ fn print_seed_table(reports: &[SeedReport]) {
     println!();
 }
 
-/// Prints `method`'s mean and worst ATE over the seeds (against the target for the default
-/// method) and returns them for eval_vo.json.
-fn method_summary(method: ScaleMethod, reports: &[SeedReport]) -> serde_json::Value {
+/// Prints `variant`'s mean and worst ATE over the seeds (against the target for the default)
+/// and returns them for eval_vo.json.
+fn method_summary(variant: VoVariant, reports: &[SeedReport]) -> serde_json::Value {
     let of_method: Vec<&VoReport> = reports
         .iter()
-        .filter(|(m, _, _)| *m == method)
+        .filter(|(m, _, _)| *m == variant)
         .map(|(_, _, report)| report)
         .collect();
     let mean = |f: fn(&VoReport) -> f64| {
@@ -202,20 +272,13 @@ fn method_summary(method: ScaleMethod, reports: &[SeedReport]) -> serde_json::Va
     };
     let worst = |f: fn(&VoReport) -> f64| of_method.iter().map(|r| f(r)).fold(0.0, f64::max);
     println!(
-        "{method:?}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
+        "{}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
+        variant.name(),
         mean(|r| r.ate_sim3_m),
         worst(|r| r.ate_sim3_m),
         mean(|r| r.ate_se3_m),
         worst(|r| r.ate_se3_m),
-        if method == ScaleMethod::Ballistic {
-            if worst(|r| r.ate_sim3_m) <= 0.25 {
-                "  (target <= 0.25 m: met)"
-            } else {
-                "  (target <= 0.25 m: NOT met)"
-            }
-        } else {
-            "  (the paper's eq. 4 baseline)"
-        }
+        variant.verdict(worst(|r| r.ate_sim3_m))
     );
     serde_json::json!({
         "ate_sim3_mean_m": mean(|r| r.ate_sim3_m),

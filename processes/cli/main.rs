@@ -15,6 +15,7 @@ mod compare_verdict;
 mod defaults_cmd;
 mod eval_cmd;
 mod eval_traversability_cmd;
+mod eval_vo_cases_cmd;
 mod jumper_clouds_cmd;
 mod launch_cmd;
 mod plan_cmd;

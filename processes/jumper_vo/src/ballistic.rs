@@ -38,6 +38,8 @@ pub struct BallisticFit {
     rhs: Vector3<f64>,
     altitude_rows: usize,
     direction_rows: usize,
+    /// The bundle adjustment's launch velocity, which [`Self::solve`] returns once set.
+    refined_mps: Option<Vector3<f64>>,
 }
 
 impl BallisticFit {
@@ -50,6 +52,7 @@ impl BallisticFit {
             rhs: Vector3::zeros(),
             altitude_rows: 0,
             direction_rows: 0,
+            refined_mps: None,
         }
     }
 
@@ -154,10 +157,22 @@ impl BallisticFit {
     /// for the horizontal part). A tiny ridge keeps an altimeter-only fit solvable in z with
     /// zero horizontal velocity.
     pub fn solve(&self) -> Option<Vector3<f64>> {
+        if self.refined_mps.is_some() {
+            return self.refined_mps;
+        }
         let ridge = 1e-12 * (1.0 + self.normal.trace());
         let n = self.normal + Matrix3::identity() * ridge;
         let v = n.cholesky()?.solve(&self.rhs);
         v.iter().all(|x| x.is_finite()).then_some(v)
+    }
+
+    /// Hands the launch velocity to a better estimate (the bundle adjustment, which reads the
+    /// same altimeter samples and the tracks the directions came from): [`Self::solve`]
+    /// returns it from now on. Non-finite velocities are ignored.
+    pub fn set_refined(&mut self, velocity_mps: &Vector3<f64>) {
+        if velocity_mps.iter().all(|v| v.is_finite()) {
+            self.refined_mps = Some(*velocity_mps);
+        }
     }
 
     /// Fitted body position at `tau_s`, if solvable.

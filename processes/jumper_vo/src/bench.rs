@@ -1,5 +1,6 @@
 //! Own-harness benchmark of [`crate::pipeline::JumperVo::process_frame`] on a rendered hop:
-//! per-frame cost p50/p99/max at 320² with up to `max_features` features (target ≤ 5 ms).
+//! per-frame cost p50/p99/max at 320² with up to `max_features` features (target p99 ≤ 10 ms
+//! with the local bundle adjustment).
 //! Run with `hopnav bench vo`.
 
 use crate::config::JumperVoConfig;

@@ -127,6 +127,17 @@ pub struct JumperVoConfig {
     /// the body slides `v_h / k · (1 − e^(−k t))` along the touchdown velocity (the hardware's
     /// linear damping while landing). 0 holds the touchdown point.
     pub landing_slide_decay_per_s: f64,
+    /// Local bundle adjustment ([`crate::flight_ba`]) at every flight keyframe: the flight's
+    /// launch velocity, spin and resting-attitude correction refined jointly with the ground
+    /// points the window's keyframes saw. `false` keeps the fits alone.
+    pub bundle_adjustment: bool,
+    /// Keyframes the adjustment's window holds (the hop's latest).
+    pub ba_window_keyframes: usize,
+    /// σ of the resting attitude the hop starts from, per axis, radians (its correction's
+    /// prior in the adjustment).
+    pub ba_launch_attitude_sigma_rad: f64,
+    /// Cauchy scale of the adjustment's reprojection residuals, in pixel σs.
+    pub ba_robust_scale_sigmas: f64,
 }
 
 impl Default for JumperVoConfig {
@@ -161,6 +172,10 @@ impl Default for JumperVoConfig {
             launch_angular_velocity_sigma_radps: 0.003,
             keyframe_rotation_sigma_rad: 0.005,
             landing_slide_decay_per_s: 8.0,
+            bundle_adjustment: true,
+            ba_window_keyframes: 12,
+            ba_launch_attitude_sigma_rad: 0.01,
+            ba_robust_scale_sigmas: 3.0,
         }
     }
 }
@@ -288,6 +303,19 @@ impl JumperVoConfig {
             1000.0,
         )
         .map_err(|rejected| rejected.noted("0 holds the touchdown point"))?;
+        KEYS.count("ba_window_keyframes", self.ba_window_keyframes, 2, 64)?;
+        KEYS.real(
+            "ba_launch_attitude_sigma_rad",
+            self.ba_launch_attitude_sigma_rad,
+            1e-5,
+            1.0,
+        )?;
+        KEYS.real(
+            "ba_robust_scale_sigmas",
+            self.ba_robust_scale_sigmas,
+            0.5,
+            100.0,
+        )?;
         Ok(())
     }
 }

@@ -5,6 +5,7 @@ pub mod ballistic;
 pub mod bench;
 pub mod cloud;
 pub mod config;
+pub mod flight_ba;
 pub mod frames;
 pub mod output;
 pub mod pipeline;

@@ -30,6 +30,7 @@
 use crate::ballistic::BallisticFit;
 use crate::cloud::fill_heights_above_ground;
 use crate::config::{ConfigError, JumperVoConfig, SolverChoice};
+use crate::flight_ba::HopWindow;
 use crate::frames::body_from_camera;
 use crate::output::{FrameInput, VoOutput, VoStatus};
 use crate::spin::SpinFit;
@@ -38,12 +39,14 @@ use hopnav_vision::camera::PinholeCamera;
 use hopnav_vision::two_view::{EssentialSolver, MotionModel, TwoViewConfig, TwoViewEstimator};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector2, Vector3};
 
+mod adjust;
 mod cloud_tracks;
 mod estimate;
 mod keyframe_history;
 mod landing;
 mod motion;
 
+pub use adjust::BaStats;
 use keyframe_history::KeyframeHistory;
 
 /// Error creating a [`JumperVo`].
@@ -123,6 +126,11 @@ pub struct JumperVo {
     /// Log-likelihood ratio, over the altimeter samples since launch, of "the commanded hop
     /// flies" against "the body stayed at its launch altitude".
     launch_llr: f64,
+    /// The hop's keyframe sightings and altimeter samples for the bundle adjustment.
+    ba_window: HopWindow,
+    /// The last accepted correction of the resting attitude (the next adjustment's start).
+    ba_attitude_correction_rad: Vector3<f64>,
+    ba_stats: BaStats,
 }
 
 /// Where and how fast the jumper came down; the landed position slides from there.
@@ -222,6 +230,9 @@ impl JumperVo {
             touchdown: None,
             still_climbing_frames: 0,
             launch_llr: 0.0,
+            ba_window: HopWindow::new(config.ba_window_keyframes),
+            ba_attitude_correction_rad: Vector3::zeros(),
+            ba_stats: BaStats::default(),
             config,
         };
         vo.start_hop(initial_world_from_body);
@@ -243,6 +254,8 @@ impl JumperVo {
         self.touchdown = None;
         self.still_climbing_frames = 0;
         self.launch_llr = 0.0;
+        self.ba_window.clear();
+        self.ba_attitude_correction_rad = Vector3::zeros();
         self.commanded_velocity_mps = Vector3::zeros();
         self.launch_world_from_body = world_from_body;
         self.last_world_from_body = world_from_body;
@@ -344,6 +357,7 @@ impl JumperVo {
         if self.phase == Phase::Flight {
             if let Some(z) = altitude {
                 self.fit.add_altitude(tau, z, self.config.altimeter_sigma_m);
+                self.ba_window.add_altitude(tau, z);
                 self.weigh_launch(tau, z);
             }
             if self
@@ -412,11 +426,13 @@ impl JumperVo {
         if let Some(z) = altitude {
             self.fit
                 .add_altitude(tau0, z, self.config.altimeter_sigma_m);
+            self.ba_window.add_altitude(tau0, z);
         }
         self.tracks.reset();
         // A wrong-size image only leaves the tracker empty; the next frame retries.
         let _ = self.tracks.track(&input.image);
         let features = self.tracks.set_keyframe().unwrap_or(0);
+        self.adjust_at_keyframe(tau0);
         let lever_z = self.lever_world(&rotation).z;
         self.keyframe = Keyframe {
             world_from_cam: pose * self.body_from_camera,
@@ -472,8 +488,14 @@ impl JumperVo {
         }
         self.tracks.retain(&self.keep);
         let mut tracked_after = est.tracked;
+        let mut world_from_cam = world_from_cam;
         if make_keyframe {
             tracked_after = self.tracks.set_keyframe().unwrap_or(0);
+            if let Some(refined) = self.adjust_at_keyframe(tau) {
+                pose = refined;
+                world_from_cam = pose * self.body_from_camera;
+                self.last_vision_body_rotation = Some(pose.rotation);
+            }
             let lever = self.lever_world(&pose.rotation);
             self.keyframe = Keyframe {
                 world_from_cam,

@@ -49,7 +49,18 @@ pub fn run_hop(hop: &SimulatedHop, config: &JumperVoConfig) -> Result<HopRun, Vo
         .first()
         .copied()
         .unwrap_or_else(Isometry3::identity);
-    let mut vo = JumperVo::new(hop.robot_config(config), hop.camera, initial)?;
+    run_hop_from(hop, &hop.robot_config(config), initial)
+}
+
+/// Runs the pipeline over every frame of `hop` from `launch_world_from_body` with `config` as
+/// given: what the VO believes about the launch (its pose, the commanded velocity and spin)
+/// may differ from what was flown.
+pub fn run_hop_from(
+    hop: &SimulatedHop,
+    config: &JumperVoConfig,
+    launch_world_from_body: Isometry3<f64>,
+) -> Result<HopRun, VoError> {
+    let mut vo = JumperVo::new(config.clone(), hop.camera, launch_world_from_body)?;
     let mut run = HopRun {
         outputs: Vec::with_capacity(hop.images.len()),
         frame_time_us: Vec::with_capacity(hop.images.len()),

@@ -76,6 +76,8 @@ pub struct SpinFit {
     /// The fitted rate, recomputed when a row comes.
     rate_radps: Vector3<f64>,
     prior_doubted: bool,
+    /// The bundle adjustment's rate and launch attitude, used once set.
+    refined: Option<(Vector3<f64>, UnitQuaternion<f64>)>,
 }
 
 impl SpinFit {
@@ -104,6 +106,7 @@ impl SpinFit {
             rows: Vec::with_capacity(MAX_ROWS),
             rate_radps: prior_radps,
             prior_doubted: false,
+            refined: None,
         }
     }
 
@@ -142,7 +145,22 @@ impl SpinFit {
 
     /// Fitted world-frame angular velocity, rad/s (the commanded one until anything is known).
     pub fn rate_radps(&self) -> Vector3<f64> {
-        self.rate_radps
+        self.refined.map_or(self.rate_radps, |(rate, _)| rate)
+    }
+
+    /// Hands the rate and the launch attitude to a better estimate (the bundle adjustment,
+    /// which reads the tracks the increments came from): [`Self::rate_radps`] and
+    /// [`Self::attitude_at`] use them from now on. Non-finite input is ignored.
+    pub fn set_refined(
+        &mut self,
+        rate_radps: &Vector3<f64>,
+        launch_rotation: &UnitQuaternion<f64>,
+    ) {
+        let finite = rate_radps.iter().all(|v| v.is_finite())
+            && launch_rotation.coords.iter().all(|v| v.is_finite());
+        if finite {
+            self.refined = Some((*rate_radps, *launch_rotation));
+        }
     }
 
     fn refit(&mut self) {
@@ -195,7 +213,10 @@ impl SpinFit {
 
     /// Attitude (world from body) `tau_s` after the launch.
     pub fn attitude_at(&self, tau_s: f64) -> UnitQuaternion<f64> {
-        UnitQuaternion::from_scaled_axis(self.rate_radps() * tau_s) * self.launch_rotation
+        let launch = self
+            .refined
+            .map_or(self.launch_rotation, |(_, launch)| launch);
+        UnitQuaternion::from_scaled_axis(self.rate_radps() * tau_s) * launch
     }
 }
 

@@ -50,6 +50,11 @@ pub struct FeatureTracks {
     birth_px: Vec<Point2<f32>>,
     /// Serial of the keyframe the track was born in.
     birth_serial: Vec<u32>,
+    /// Identity of each track, unique over the tracker's life (the bundle adjustment joins a
+    /// track's sightings across keyframes by it).
+    track_id: Vec<u32>,
+    /// The identity the next new track gets.
+    next_track_id: u32,
     /// Serial of the current keyframe (counts every [`Self::set_keyframe`]).
     keyframe_serial: u32,
     /// Last image displacement (prediction for the next frame).
@@ -103,6 +108,8 @@ impl FeatureTracks {
             kf_px: Vec::with_capacity(max_features),
             birth_px: Vec::with_capacity(max_features),
             birth_serial: Vec::with_capacity(max_features),
+            track_id: Vec::with_capacity(max_features),
+            next_track_id: 0,
             keyframe_serial: 0,
             flow_px: Vec::with_capacity(max_features),
             levels: Vec::with_capacity(max_features),
@@ -161,6 +168,7 @@ impl FeatureTracks {
                 self.kf_px[kept] = self.kf_px[i];
                 self.birth_px[kept] = self.birth_px[i];
                 self.birth_serial[kept] = self.birth_serial[i];
+                self.track_id[kept] = self.track_id[i];
                 self.levels[kept] = self.tracked_levels;
                 kept += 1;
             }
@@ -180,6 +188,7 @@ impl FeatureTracks {
         self.kf_px.clear();
         self.birth_px.clear();
         self.birth_serial.clear();
+        self.track_id.clear();
         self.flow_px.clear();
         self.levels.clear();
         self.keyframe_count = 0;
@@ -194,6 +203,7 @@ impl FeatureTracks {
                 self.kf_px[kept] = self.kf_px[i];
                 self.birth_px[kept] = self.birth_px[i];
                 self.birth_serial[kept] = self.birth_serial[i];
+                self.track_id[kept] = self.track_id[i];
                 self.flow_px[kept] = self.flow_px[i];
                 self.levels[kept] = self.levels[i];
                 kept += 1;
@@ -207,6 +217,7 @@ impl FeatureTracks {
         self.kf_px.truncate(len);
         self.birth_px.truncate(len);
         self.birth_serial.truncate(len);
+        self.track_id.truncate(len);
         self.flow_px.truncate(len);
         self.levels.truncate(len);
     }
@@ -233,6 +244,8 @@ impl FeatureTracks {
                 self.kf_px.push(c.position_px);
                 self.birth_px.push(c.position_px);
                 self.birth_serial.push(self.keyframe_serial);
+                self.track_id.push(self.next_track_id);
+                self.next_track_id = self.next_track_id.wrapping_add(1);
                 self.flow_px.push(median_flow);
                 self.levels.push(u8::MAX);
             }
@@ -269,6 +282,11 @@ impl FeatureTracks {
     /// Serial of the keyframe each track was born in (see [`Self::keyframe_serial`]).
     pub fn birth_serial(&self) -> &[u32] {
         &self.birth_serial
+    }
+
+    /// Identity of each track, unique over the tracker's life (wraps after 2³² tracks).
+    pub fn track_id(&self) -> &[u32] {
+        &self.track_id
     }
 
     /// Serial of the current keyframe: it grows by one at every [`Self::set_keyframe`], so a

@@ -408,3 +408,41 @@ fn clouds_after_takeoff_put_no_rock_on_bare_ground() {
         );
     }
 }
+
+/// The local bundle adjustment refines the flight from every keyframe's sightings: on a
+/// rendered hop it ends closer to the truth than the fits alone, and says it ran.
+#[test]
+fn the_bundle_adjustment_brings_the_hop_closer_than_the_fits_alone() {
+    let sim = small_sim(50, Vec::new());
+    let errors = |bundle_adjustment: bool| {
+        let config = JumperVoConfig {
+            bundle_adjustment,
+            ..JumperVoConfig::default()
+        };
+        let run = run_hop(&sim, &config).unwrap();
+        let report = evaluate(&run.outputs, &sim.truth_world_from_body).unwrap();
+        println!("bundle adjustment {bundle_adjustment}: {report}");
+        (report.ate_sim3_m, report.rmse_unaligned_m)
+    };
+    let (ate_with, unaligned_with) = errors(true);
+    let (ate_without, unaligned_without) = errors(false);
+    assert!(ate_with < ate_without, "{ate_with} against {ate_without}");
+    assert!(
+        unaligned_with < unaligned_without,
+        "{unaligned_with} against {unaligned_without}"
+    );
+    let (mut vo, _) = vo_at_launch(&sim);
+    for (k, image) in sim.images.iter().enumerate() {
+        vo.process_frame(FrameInput {
+            frame_index: k as u64,
+            t_s: sim.t_s[k],
+            image: ImageView::packed(image, sim.width_px, sim.height_px).unwrap(),
+            altimeter_m: sim.altimeter_m.get(k).copied(),
+        });
+    }
+    let stats = vo.ba_stats();
+    assert!(
+        stats.accepted >= 5 && stats.accepted <= stats.tried,
+        "{stats:?}"
+    );
+}

@@ -6,6 +6,7 @@
 //! keyframe clouds' heights against the world they were rendered from; [`dataset`] scores a
 //! recorded launch.
 
+pub mod cases;
 pub mod cloud_heights;
 pub mod dataset;
 pub mod plot;

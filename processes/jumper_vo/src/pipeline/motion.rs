@@ -92,6 +92,7 @@ impl JumperVo {
         // Restart tracking from this frame.
         self.tracks.retain(&[]);
         let features = self.tracks.set_keyframe().unwrap_or(0);
+        let pose = self.adjust_at_keyframe(tau).unwrap_or(pose);
         let world_from_cam = pose * self.body_from_camera;
         let lever = self.lever_world(&rotation);
         self.keyframe = Keyframe {

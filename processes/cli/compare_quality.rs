@@ -86,9 +86,34 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
         ));
         if mode == MissionMode::RoverOnly {
             lines.extend(headroom_line(&set.label, &mut path_over_best));
+        } else {
+            let jumper: Vec<_> = evaluations
+                .iter()
+                .flat_map(|(_, evaluation)| evaluation.vo.iter().filter(|vo| vo.robot == "jumper"))
+                .collect();
+            lines.extend(jumper_line(&set.label, &jumper));
         }
     }
     lines
+}
+
+/// How far the jumper's VO strayed over the cooperative missions: its unaligned RMSE per
+/// mission and its error at each rest after a hop.
+fn jumper_line(label: &str, jumper: &[&hopnav_eval::vo_accuracy::VoAccuracy]) -> Option<String> {
+    if jumper.is_empty() {
+        return None;
+    }
+    let mut rmse: Vec<f64> = jumper.iter().map(|vo| vo.unaligned_rmse_m).collect();
+    let mut rests: Vec<f64> = jumper
+        .iter()
+        .flat_map(|vo| vo.rest_errors_m.iter().copied())
+        .collect();
+    let rest_count = rests.len();
+    Some(format!(
+        "{label} jumper VO: unaligned RMSE per mission {}; error at rest after a hop {} over {rest_count} hops",
+        spread(&mut rmse, " m"),
+        spread(&mut rests, " m"),
+    ))
 }
 
 /// What a scout could win on this terrain at most: how much longer the rover-only drive was

@@ -144,15 +144,25 @@ impl MissionEvaluation {
         for vo in &self.vo {
             writeln!(
                 out,
-                "{} VO vs truth over {} poses: ATE Sim(3) {:.3} m, SE(3) {:.3} m, final error {:.3} m after {:.1} m travelled ({:.2} %)",
+                "{} VO vs truth over {} poses: ATE Sim(3) {:.3} m, SE(3) {:.3} m, unaligned RMSE {:.3} m, final error {:.3} m after {:.1} m travelled ({:.2} %)",
                 vo.robot,
                 vo.poses,
                 vo.ate_sim3_m,
                 vo.ate_se3_m,
+                vo.unaligned_rmse_m,
                 vo.final_error_m,
                 vo.travelled_m,
                 vo.drift_percent
             )?;
+            if vo.robot == "jumper" && !vo.rest_errors_m.is_empty() {
+                let errors: Vec<String> =
+                    vo.rest_errors_m.iter().map(|e| format!("{e:.2}")).collect();
+                writeln!(
+                    out,
+                    "jumper error at rest after each hop, metres: {}",
+                    errors.join(" ")
+                )?;
+            }
         }
         Ok(())
     }

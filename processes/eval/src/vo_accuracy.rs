@@ -41,6 +41,43 @@ pub struct VoAccuracy {
     pub travelled_m: f64,
     /// `final_error_m` in % of `travelled_m` (NaN when it did not move).
     pub drift_percent: f64,
+    /// Position error at the end of each rest after a move, in order: for the jumper, where
+    /// each hop ended as the next one starts from it (its error growth hop by hop).
+    #[serde(default)]
+    pub rest_errors_m: Vec<f64>,
+}
+
+/// The truth moving less than this between two poses is at rest, metres.
+const REST_STEP_M: f64 = 0.005;
+/// Poses at rest in a row that make a rest.
+const REST_POSES: usize = 5;
+
+/// The error at the last pose of every rest (`REST_POSES` poses or more barely moving) that
+/// follows a move, in order.
+pub fn rest_errors_m(pairs: &[(u64, Isometry3<f64>, Isometry3<f64>)]) -> Vec<f64> {
+    let mut errors = Vec::new();
+    let mut moved = false;
+    let mut still = 0;
+    for (k, window) in pairs.windows(2).enumerate() {
+        let step = (window[1].2.translation.vector - window[0].2.translation.vector).norm();
+        if step >= REST_STEP_M {
+            if moved && still >= REST_POSES {
+                let (_, estimate, truth) = &pairs[k];
+                errors.push((estimate.translation.vector - truth.translation.vector).norm());
+            }
+            moved = true;
+            still = 0;
+        } else {
+            still += 1;
+        }
+    }
+    if moved
+        && still >= REST_POSES
+        && let Some((_, estimate, truth)) = pairs.last()
+    {
+        errors.push((estimate.translation.vector - truth.translation.vector).norm());
+    }
+    errors
 }
 
 /// The accuracy of `(sim time ns, estimate, truth)` pairs; `None` with fewer than three.
@@ -73,6 +110,7 @@ pub fn accuracy(
         } else {
             f64::NAN
         },
+        rest_errors_m: rest_errors_m(pairs),
     })
 }
 
@@ -98,6 +136,38 @@ mod tests {
         assert!(accuracy.ate_se3_m < 1e-9, "a constant offset aligns away");
         assert!((accuracy.travelled_m - 2.0).abs() < 1e-12);
         assert!((accuracy.drift_percent - 25.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn each_rest_after_a_move_gives_the_error_it_ends_with() {
+        // At rest 10 poses, a hop of 5 poses, rest 10 poses with a 0.3 m error, another hop,
+        // rest 6 poses with 0.5 m.
+        let mut pairs = Vec::new();
+        let mut x = 0.0;
+        let mut push = |x: f64, error: f64, pairs: &mut Vec<_>| {
+            let t = pairs.len() as u64;
+            pairs.push((
+                t,
+                Isometry3::translation(x + error, 0.0, 0.0),
+                Isometry3::translation(x, 0.0, 0.0),
+            ));
+        };
+        for _ in 0..10 {
+            push(x, 0.0, &mut pairs);
+        }
+        for (hop, (rest, error)) in [(10, 0.3), (6, 0.5)].into_iter().enumerate() {
+            for _ in 0..5 {
+                x += 1.0;
+                push(x, 0.1 * hop as f64, &mut pairs);
+            }
+            for _ in 0..rest {
+                push(x, error, &mut pairs);
+            }
+        }
+        let errors = rest_errors_m(&pairs);
+        assert_eq!(errors.len(), 2, "{errors:?}");
+        assert!((errors[0] - 0.3).abs() < 1e-12 && (errors[1] - 0.5).abs() < 1e-12);
+        assert_eq!(accuracy("jumper", &pairs).unwrap().rest_errors_m, errors);
     }
 
     #[test]

@@ -446,3 +446,34 @@ fn the_bundle_adjustment_brings_the_hop_closer_than_the_fits_alone() {
         "{stats:?}"
     );
 }
+
+/// A second of sky (ten black frames, as when a tumbling launch points the camera up): the VO
+/// says it coasts, coasts on the adjusted flight within decimetres, re-acquires the ground,
+/// and does not jump when it does.
+#[test]
+fn a_second_without_ground_is_coasted_and_rejoined_without_a_jump() {
+    let sim = small_sim(36, (12..22).collect());
+    let run = run_hop(&sim, &JumperVoConfig::default()).unwrap();
+    for k in 12..22 {
+        assert_eq!(run.outputs[k].status, VoStatus::Propagating, "frame {k}");
+    }
+    assert!(
+        run.outputs[22..]
+            .iter()
+            .any(|o| o.status == VoStatus::Tracking)
+    );
+    let error = |k: usize| {
+        (run.outputs[k].world_from_body.translation.vector
+            - sim.truth_world_from_body[k].translation.vector)
+            .norm()
+    };
+    let worst = (0..run.outputs.len()).map(error).fold(0.0, f64::max);
+    println!("worst error {worst:.3} m");
+    // Measured 0.13 m; before empty keyframes were kept out of the adjustment's window, the
+    // blackout pushed every seeing keyframe out and the error jumped by 0.45 m.
+    assert!(worst < 0.3, "worst error {worst} m");
+    for k in 12..run.outputs.len() {
+        let jump = (error(k) - error(k - 1)).abs();
+        assert!(jump < 0.15, "frame {k}: error changed by {jump} m");
+    }
+}

@@ -52,6 +52,11 @@ impl JumperVo {
             .iter()
             .zip(self.tracks.current_px())
             .map(|(&id, px)| (id, camera.pixel_f32_to_normalized(*px)));
+        // A keyframe that sees nothing (sky, a black frame) would only push seeing ones out
+        // of the window, and an adjustment without new sightings has nothing to add.
+        if self.tracks.track_id().is_empty() {
+            return None;
+        }
         self.ba_window.add_keyframe(tau, tracks);
         if !self.config.bundle_adjustment || self.ba_window.keyframes() < 3 {
             return None;

@@ -144,7 +144,7 @@ mod tests {
         // rest 6 poses with 0.5 m.
         let mut pairs = Vec::new();
         let mut x = 0.0;
-        let mut push = |x: f64, error: f64, pairs: &mut Vec<_>| {
+        let push = |x: f64, error: f64, pairs: &mut Vec<_>| {
             let t = pairs.len() as u64;
             pairs.push((
                 t,

@@ -29,7 +29,7 @@ pub use image::{CameraIntrinsics, ImageHeader, PixelFormat};
 pub use map::{CellClass, CellUpdate, MapHeader};
 pub use path::{MissionState, PathHeader, PathPoint};
 pub use physics_state::{BlockCode, HopPhase, JumperCycle, NoiseState, PhysicsState, RoverDrive};
-pub use pose::PoseEstimate;
+pub use pose::{PoseEstimate, PoseQuality};
 pub use sensors::{AltimeterSample, BodyState, BodyStates, ImuSample};
 
 /// Declares a `u32`-coded enumeration with a checked `from_code`.

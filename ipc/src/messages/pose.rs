@@ -23,8 +23,42 @@ pub struct PoseEstimate {
     pub robot: u32,
     /// 1 if this frame became a keyframe.
     pub is_keyframe: u32,
-    /// Reserved, zero.
-    pub reserved: u32,
+    /// A [`PoseQuality`] code: what the estimate rests on (0 in recordings made before it
+    /// existed).
+    pub quality: u32,
+}
+
+/// What a pose estimate rests on, for consumers that weigh it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum PoseQuality {
+    /// Not said (older producers).
+    Unknown = 0,
+    /// Measured by vision this frame.
+    Measured = 1,
+    /// Coasting: the camera saw no usable ground (sky, blur, a tumble) and the pose is
+    /// propagated by the motion model; its error grows until vision returns.
+    Coasting = 2,
+    /// At rest after a landing: held, not measured.
+    AtRest = 3,
+    /// The first frame: the given starting pose.
+    Initial = 4,
+    /// The input was rejected: the last pose repeated.
+    Repeated = 5,
+}
+
+impl PoseQuality {
+    /// The quality a code names (`Unknown` for codes it does not know).
+    pub fn from_code(code: u32) -> Self {
+        match code {
+            1 => Self::Measured,
+            2 => Self::Coasting,
+            3 => Self::AtRest,
+            4 => Self::Initial,
+            5 => Self::Repeated,
+            _ => Self::Unknown,
+        }
+    }
 }
 
 const _: () = assert!(size_of::<PoseEstimate>() == 120);
@@ -49,7 +83,44 @@ impl PoseEstimate {
             tracked_features: tracked_features as u32,
             robot: robot.code(),
             is_keyframe: u32::from(is_keyframe),
-            reserved: 0,
+            quality: PoseQuality::Unknown as u32,
         }
+    }
+
+    /// The same estimate, saying what it rests on.
+    pub fn with_quality(mut self, quality: PoseQuality) -> Self {
+        self.quality = quality as u32;
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_quality_code_names_its_quality_and_unknown_codes_are_unknown() {
+        for quality in [
+            PoseQuality::Unknown,
+            PoseQuality::Measured,
+            PoseQuality::Coasting,
+            PoseQuality::AtRest,
+            PoseQuality::Initial,
+            PoseQuality::Repeated,
+        ] {
+            assert_eq!(PoseQuality::from_code(quality as u32), quality);
+        }
+        assert_eq!(PoseQuality::from_code(99), PoseQuality::Unknown);
+        let pose = PoseEstimate::from_vo(
+            Robot::Jumper,
+            &SampleStamp::default(),
+            Pose3::default(),
+            0.1,
+            1.0,
+            0,
+            true,
+        )
+        .with_quality(PoseQuality::Coasting);
+        assert_eq!(PoseQuality::from_code(pose.quality), PoseQuality::Coasting);
     }
 }

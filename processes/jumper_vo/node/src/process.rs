@@ -8,7 +8,7 @@
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{
     AltimeterSample, CloudHeader, FeaturePoint, FrameTick, HopLaunch, ImageHeader, Pose3,
-    PoseEstimate, Robot,
+    PoseEstimate, PoseQuality, Robot,
 };
 use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
@@ -19,7 +19,7 @@ use hopnav_vision::image::ImageView;
 use nalgebra::{Isometry3, Translation3, Vector3};
 
 use hopnav_jumper_vo::config::JumperVoConfig;
-use hopnav_jumper_vo::output::FrameInput;
+use hopnav_jumper_vo::output::{FrameInput, VoStatus};
 use hopnav_jumper_vo::pipeline::JumperVo;
 
 /// Why the jumper VO process failed: only the plumbing every node shares.
@@ -216,15 +216,18 @@ impl Process for JumperVoProcess {
         drop(image);
         let world_from_body = Pose3::from_isometry(&output.world_from_body);
         let stamp = header.stamp;
-        self.poses.send(PoseEstimate::from_vo(
-            Robot::Jumper,
-            &stamp,
-            world_from_body,
-            output.confidence,
-            output.scale.unwrap_or(0.0),
-            output.tracked_features,
-            output.is_keyframe,
-        ))?;
+        self.poses.send(
+            PoseEstimate::from_vo(
+                Robot::Jumper,
+                &stamp,
+                world_from_body,
+                output.confidence,
+                output.scale.unwrap_or(0.0),
+                output.tracked_features,
+                output.is_keyframe,
+            )
+            .with_quality(pose_quality(output.status)),
+        )?;
         if let Some(cloud) = &output.cloud {
             self.keyframes += 1;
             let cloud_camera = output
@@ -254,5 +257,16 @@ impl Process for JumperVoProcess {
         self.images.rejected().total()
             + self.altimeter.rejected().total()
             + self.launches.rejected().total()
+    }
+}
+
+/// What the jumper's pose rests on, as the pose message says it.
+fn pose_quality(status: VoStatus) -> PoseQuality {
+    match status {
+        VoStatus::Tracking => PoseQuality::Measured,
+        VoStatus::Propagating => PoseQuality::Coasting,
+        VoStatus::Landed => PoseQuality::AtRest,
+        VoStatus::Initializing => PoseQuality::Initial,
+        VoStatus::Rejected => PoseQuality::Repeated,
     }
 }

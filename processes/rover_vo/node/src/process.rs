@@ -15,7 +15,7 @@
 use hopnav_config::{ConfigError, HopnavConfig, parse_section};
 use hopnav_ipc::messages::{
     CloudHeader, FeaturePoint, FrameTick, ImageHeader, ImuSample, PixelFormat, Pose3, PoseEstimate,
-    Robot, SampleStamp,
+    PoseQuality, Robot, SampleStamp,
 };
 use hopnav_ipc::node_error::NodeError;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
@@ -26,7 +26,7 @@ use nalgebra::{Isometry3, Quaternion, UnitQuaternion};
 
 use hopnav_rover_vo::config::RoverVoConfig;
 use hopnav_rover_vo::motion::{Intrinsics, Tilt};
-use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, VoOutput, start_pose};
+use hopnav_rover_vo::pipeline::{RoverVo, StereoFrame, StereoRig, VoOutput, VoStatus, start_pose};
 
 /// Why the rover VO process failed: only the plumbing every node shares.
 pub type RoverVoProcessError = NodeError;
@@ -272,15 +272,18 @@ impl RoverVoProcess {
         stamp: &SampleStamp,
         rig: &StereoRig,
     ) -> Result<(), RoverVoProcessError> {
-        self.poses.send(PoseEstimate::from_vo(
-            Robot::Rover,
-            stamp,
-            Pose3::from_isometry(&output.world_from_body),
-            output.confidence,
-            1.0,
-            output.tracked_features,
-            output.is_keyframe,
-        ))?;
+        self.poses.send(
+            PoseEstimate::from_vo(
+                Robot::Rover,
+                stamp,
+                Pose3::from_isometry(&output.world_from_body),
+                output.confidence,
+                1.0,
+                output.tracked_features,
+                output.is_keyframe,
+            )
+            .with_quality(rover_pose_quality(output)),
+        )?;
         let Some(vo) = self.vo.as_ref() else {
             return Ok(());
         };
@@ -386,6 +389,15 @@ impl Process for RoverVoProcess {
 
     fn rejected_samples(&self) -> u64 {
         self.stereo.rejected().total() + self.imu.rejected().total() + self.bad_headers
+    }
+}
+
+/// What the rover's pose rests on, as the pose message says it.
+fn rover_pose_quality(output: &VoOutput) -> PoseQuality {
+    match output.status {
+        VoStatus::Tracking => PoseQuality::Measured,
+        VoStatus::Initialized => PoseQuality::Initial,
+        VoStatus::Propagated => PoseQuality::Coasting,
     }
 }
 

@@ -35,6 +35,9 @@ pub struct HopWindow {
     rejected: usize,
 }
 
+/// Altitudes beyond this are no reading, metres.
+const MAX_ABS_ALTITUDE_M: f64 = 1e5;
+
 /// Altimeter samples kept per hop (a hop has about 50 frames).
 const MAX_ALTITUDE_SAMPLES: usize = 512;
 
@@ -83,9 +86,10 @@ impl HopWindow {
         }
     }
 
-    /// Adds an altimeter sample (non-finite ones are dropped and counted).
+    /// Adds an altimeter sample (non-finite or absurd ones are dropped and counted: one
+    /// 1e300 m reading would make every cost infinite for the rest of the hop).
     pub fn add_altitude(&mut self, tau_s: f64, altitude_m: f64) {
-        if !(tau_s.is_finite() && altitude_m.is_finite()) {
+        if !(tau_s.is_finite() && altitude_m.abs() <= MAX_ABS_ALTITUDE_M) {
             self.rejected += 1;
             return;
         }
@@ -133,11 +137,12 @@ mod tests {
         window.add_keyframe(0.3, [(2, Vector2::new(0.2, 0.0))]);
         window.add_keyframe(0.25, [(3, Vector2::new(0.2, 0.0))]);
         window.add_altitude(0.1, f64::INFINITY);
+        window.add_altitude(0.1, 1e300);
         window.add_altitude(0.1, 2.0);
         assert_eq!(window.keyframes(), 2);
         assert_eq!(window.sightings().len(), 2);
         assert!(window.sightings().iter().all(|s| s.tau_s >= 0.2));
         assert_eq!(window.altitudes().len(), 1);
-        assert_eq!(window.rejected(), 3);
+        assert_eq!(window.rejected(), 4);
     }
 }

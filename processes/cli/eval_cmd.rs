@@ -233,7 +233,7 @@ fn run_vo_seeds(args: &VoArgs) -> Result<Vec<SeedReport>, String> {
 /// One row per run.
 fn print_seed_table(reports: &[SeedReport]) {
     println!(
-        "\n{:<10} {:>5} {:>12} {:>12} {:>12} {:>11} {:>10} {:>9}",
+        "\n{:<10} {:>5} {:>12} {:>12} {:>12} {:>11} {:>10} {:>9} {:>10}",
         "variant",
         "seed",
         "ATE Sim3 m",
@@ -241,11 +241,12 @@ fn print_seed_table(reports: &[SeedReport]) {
         "unaligned m",
         "RPE m/frm",
         "final m",
-        "max rot°"
+        "max rot°",
+        "in 2σ %"
     );
     for (variant, seed, report) in reports {
         println!(
-            "{:<10} {:>5} {:>12.3} {:>12.3} {:>12.3} {:>11.3} {:>10.3} {:>9.2}",
+            "{:<10} {:>5} {:>12.3} {:>12.3} {:>12.3} {:>11.3} {:>10.3} {:>9.2} {:>10.0}",
             variant.name(),
             seed,
             report.ate_sim3_m,
@@ -253,7 +254,8 @@ fn print_seed_table(reports: &[SeedReport]) {
             report.rmse_unaligned_m,
             report.rpe_frame_m,
             report.final_error_m,
-            report.max_rotation_error_rad.to_degrees()
+            report.max_rotation_error_rad.to_degrees(),
+            report.within_two_sigma_percent
         );
     }
     println!();
@@ -272,12 +274,13 @@ fn method_summary(variant: VoVariant, reports: &[SeedReport]) -> serde_json::Val
     };
     let worst = |f: fn(&VoReport) -> f64| of_method.iter().map(|r| f(r)).fold(0.0, f64::max);
     println!(
-        "{}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m{}",
+        "{}: ATE Sim(3) mean {:.3} m, worst {:.3} m; SE(3) mean {:.3} m, worst {:.3} m; frames within 2 σ {:.0} %{}",
         variant.name(),
         mean(|r| r.ate_sim3_m),
         worst(|r| r.ate_sim3_m),
         mean(|r| r.ate_se3_m),
         worst(|r| r.ate_se3_m),
+        mean(|r| r.within_two_sigma_percent),
         variant.verdict(worst(|r| r.ate_sim3_m))
     );
     serde_json::json!({
@@ -287,6 +290,7 @@ fn method_summary(variant: VoVariant, reports: &[SeedReport]) -> serde_json::Val
         "ate_se3_worst_m": worst(|r| r.ate_se3_m),
         "rpe_frame_mean_m": mean(|r| r.rpe_frame_m),
         "final_error_mean_m": mean(|r| r.final_error_m),
+        "within_two_sigma_mean_percent": mean(|r| r.within_two_sigma_percent),
         "seeds": of_method.len(),
     })
 }

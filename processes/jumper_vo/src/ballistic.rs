@@ -40,6 +40,8 @@ pub struct BallisticFit {
     direction_rows: usize,
     /// The bundle adjustment's launch velocity, which [`Self::solve`] returns once set.
     refined_mps: Option<Vector3<f64>>,
+    /// Its covariance, when the adjustment gave one.
+    refined_covariance: Option<Matrix3<f64>>,
 }
 
 impl BallisticFit {
@@ -53,6 +55,7 @@ impl BallisticFit {
             altitude_rows: 0,
             direction_rows: 0,
             refined_mps: None,
+            refined_covariance: None,
         }
     }
 
@@ -169,10 +172,28 @@ impl BallisticFit {
     /// Hands the launch velocity to a better estimate (the bundle adjustment, which reads the
     /// same altimeter samples and the tracks the directions came from): [`Self::solve`]
     /// returns it from now on. Non-finite velocities are ignored.
-    pub fn set_refined(&mut self, velocity_mps: &Vector3<f64>) {
+    pub fn set_refined(&mut self, velocity_mps: &Vector3<f64>, covariance: Option<Matrix3<f64>>) {
         if velocity_mps.iter().all(|v| v.is_finite()) {
             self.refined_mps = Some(*velocity_mps);
+            self.refined_covariance = covariance.filter(|c| c.iter().all(|v| v.is_finite()));
         }
+    }
+
+    /// Covariance of the launch velocity, (m/s)²: the adjustment's once it gave one, else the
+    /// inverse of these normal equations (their rows are weighted by 1/σ²); `None` while
+    /// unobservable.
+    pub fn velocity_covariance(&self) -> Option<Matrix3<f64>> {
+        if self.refined_mps.is_some() && self.refined_covariance.is_some() {
+            return self.refined_covariance;
+        }
+        let ridge = 1e-12 * (1.0 + self.normal.trace());
+        let covariance = (self.normal + Matrix3::identity() * ridge)
+            .cholesky()?
+            .inverse();
+        covariance
+            .iter()
+            .all(|v| v.is_finite())
+            .then_some(covariance)
     }
 
     /// Fitted body position at `tau_s`, if solvable.

@@ -138,6 +138,11 @@ pub struct JumperVoConfig {
     pub ba_launch_attitude_sigma_rad: f64,
     /// Cauchy scale of the adjustment's reprojection residuals, in pixel σs.
     pub ba_robust_scale_sigmas: f64,
+    /// σ per horizontal axis of where the body comes to rest against the slide model, metres
+    /// (widens the published position σ after a landing). Default from 20 cooperative
+    /// missions of `docs/experiments/2026-12-07-jumper-local-bundle-adjustment.md`: the
+    /// landing error's p10–p90 is about ±0.3 m along and across the travel.
+    pub landing_slide_sigma_m: f64,
 }
 
 impl Default for JumperVoConfig {
@@ -176,6 +181,7 @@ impl Default for JumperVoConfig {
             ba_window_keyframes: 12,
             ba_launch_attitude_sigma_rad: 0.01,
             ba_robust_scale_sigmas: 3.0,
+            landing_slide_sigma_m: 0.25,
         }
     }
 }
@@ -309,6 +315,12 @@ impl JumperVoConfig {
             self.ba_launch_attitude_sigma_rad,
             1e-5,
             1.0,
+        )?;
+        KEYS.real(
+            "landing_slide_sigma_m",
+            self.landing_slide_sigma_m,
+            0.0,
+            100.0,
         )?;
         KEYS.real(
             "ba_robust_scale_sigmas",

@@ -62,4 +62,8 @@ pub struct VoOutput {
     /// of each point is an older keyframe's, see `cloud_track_keyframes`). The depth sigmas are
     /// ranges from it, and evaluation recovers each point's viewing ray from it.
     pub cloud_world_from_camera: Option<Isometry3<f64>>,
+    /// σ of the position relative to the hop's launch point, metres (the square root of its
+    /// covariance's trace): it grows while the VO coasts without ground and after a landing
+    /// by the slide's scatter; NaN while unknown. The launch point's own error is not in it.
+    pub position_sigma_m: f64,
 }

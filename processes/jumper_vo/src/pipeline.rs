@@ -335,12 +335,20 @@ impl JumperVo {
             model: None,
             cloud: None,
             cloud_world_from_camera: None,
+            position_sigma_m: f64::NAN,
         }
     }
 
     /// Runs steps 1–7 on one frame. Never panics; bad input gives a [`VoStatus::Rejected`] or
     /// [`VoStatus::Propagating`] output.
     pub fn process_frame(&mut self, input: FrameInput<'_>) -> VoOutput {
+        let mut out = self.process_frame_estimate(input);
+        out.position_sigma_m = self.position_sigma_m(out.t_s - self.launch_t_s);
+        out
+    }
+
+    /// [`Self::process_frame`] without the position σ.
+    fn process_frame_estimate(&mut self, input: FrameInput<'_>) -> VoOutput {
         if !input.t_s.is_finite() {
             return self.output(&input, VoStatus::Rejected);
         }
@@ -523,6 +531,7 @@ impl JumperVo {
             model: Some(est.model),
             cloud,
             cloud_world_from_camera,
+            position_sigma_m: f64::NAN,
         }
     }
 }

@@ -234,6 +234,7 @@ mod tests {
             inliers: 0,
             scale: None,
             model: None,
+            position_sigma_m: f64::NAN,
             cloud_world_from_camera: cloud
                 .as_ref()
                 .map(|_| keyframe(2.0 * frame_index as f64 + CAMERA_ERROR_X_M)),

@@ -44,6 +44,9 @@ pub struct VoReport {
     pub non_tracking_frames: usize,
     /// Keyframes.
     pub keyframes: usize,
+    /// Share of the frames with a position σ whose unaligned error is within 2 σ, percent
+    /// (whether the σ the VO publishes is honest; NaN without any σ).
+    pub within_two_sigma_percent: f64,
 }
 
 /// Computes the metrics of `outputs` against `truth` (matched by index).
@@ -74,7 +77,25 @@ pub fn evaluate(outputs: &[VoOutput], truth: &[Isometry3<f64>]) -> Option<VoRepo
             .filter(|o| !matches!(o.status, VoStatus::Tracking | VoStatus::Initializing))
             .count(),
         keyframes: outputs[..n].iter().filter(|o| o.is_keyframe).count(),
+        within_two_sigma_percent: within_two_sigma_percent(&outputs[..n], gt),
     })
+}
+
+/// Share of the outputs with a finite position σ whose error is within twice it, percent.
+fn within_two_sigma_percent(outputs: &[VoOutput], truth: &[Isometry3<f64>]) -> f64 {
+    let judged: Vec<bool> = outputs
+        .iter()
+        .zip(truth)
+        .filter(|(o, _)| o.position_sigma_m.is_finite())
+        .map(|(o, g)| {
+            let error = (o.world_from_body.translation.vector - g.translation.vector).norm();
+            error <= 2.0 * o.position_sigma_m
+        })
+        .collect();
+    if judged.is_empty() {
+        return f64::NAN;
+    }
+    100.0 * judged.iter().filter(|&&inside| inside).count() as f64 / judged.len() as f64
 }
 
 impl std::fmt::Display for VoReport {
@@ -83,7 +104,7 @@ impl std::fmt::Display for VoReport {
             f,
             "frames {} | ATE sim3 {:.3} m (scale {:.3}) | ATE se3 {:.3} m | unaligned {:.3} m | \
              RPE {:.3} m/frame {:.2}°/frame {:.3} m/m | final {:.3} m | max rot err {:.2}° | \
-             non-tracking {} | keyframes {}",
+             non-tracking {} | keyframes {} | within 2σ {:.0} %",
             self.frames,
             self.ate_sim3_m,
             self.sim3_scale,
@@ -95,7 +116,8 @@ impl std::fmt::Display for VoReport {
             self.final_error_m,
             self.max_rotation_error_rad.to_degrees(),
             self.non_tracking_frames,
-            self.keyframes
+            self.keyframes,
+            self.within_two_sigma_percent
         )
     }
 }

@@ -27,7 +27,7 @@ mod window;
 pub use solve::adjust;
 pub use window::{AltitudeSample, HopWindow, Sighting};
 
-use nalgebra::{Isometry3, SVector, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, SVector, Translation3, UnitQuaternion, Vector3};
 
 /// What the flight model holds fixed: where and how the hop started, gravity and the mount.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,6 +158,9 @@ pub struct BaOutcome {
     pub median_error_sigmas_before: f64,
     /// See `median_error_sigmas_before`.
     pub median_error_sigmas_after: f64,
+    /// Covariance of the launch velocity, (m/s)², scaled by the residuals' variance factor
+    /// when they are wider than the pixel σ; `None` when singular.
+    pub velocity_covariance: Option<Matrix3<f64>>,
 }
 
 /// Why no adjustment was made.

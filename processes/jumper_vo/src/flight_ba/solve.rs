@@ -73,9 +73,12 @@ pub fn adjust(
     let median_before = problem.median_error_sigmas(&theta, &points);
     let mut lambda = 1e-4;
     let mut iterations = 0;
+    // The last normal equations built: at convergence their Schur complement gives the
+    // parameters' covariance without another pass over the sightings.
+    let mut last_normal = None;
     while iterations < settings.max_iterations {
         iterations += 1;
-        let normal = problem.normal_equations(&theta, &points);
+        let normal = last_normal.insert(problem.normal_equations(&theta, &points));
         let mut accepted = false;
         for _ in 0..8 {
             let Some((step, point_steps)) = normal.solve(lambda) else {
@@ -111,15 +114,26 @@ pub fn adjust(
     if !params.is_finite() {
         return Err(BaError::Singular);
     }
+    let sightings: usize = points.iter().map(|p| p.end - p.first).sum();
+    // The a-posteriori variance factor, never below 1: residuals wider than the pixel σ widen
+    // the covariance, narrower ones do not shrink it.
+    let dof = (2 * sightings).saturating_sub(9 + 3 * points.len()).max(1);
+    let variance_factor = (cost / dof as f64).max(1.0);
+    let velocity_covariance = last_normal
+        .unwrap_or_else(|| problem.normal_equations(&theta, &points))
+        .parameter_covariance()
+        .map(|c| c.fixed_view::<3, 3>(0, 0) * variance_factor)
+        .filter(|c| c.iter().all(|v| v.is_finite()));
     Ok(BaOutcome {
         params,
         points: points.len(),
-        sightings: points.iter().map(|p| p.end - p.first).sum(),
+        sightings,
         iterations,
         cost_before,
         cost_after: cost,
         median_error_sigmas_before: median_before,
         median_error_sigmas_after: problem.median_error_sigmas(&theta, &points),
+        velocity_covariance,
     })
 }
 
@@ -492,8 +506,16 @@ impl NormalEquations {
         self.cross[point] += jac_theta.transpose() * jac_point * w;
     }
 
-    /// The damped step (Marquardt scaling by `1 + lambda`) for the parameters and each point.
-    fn solve(&self, lambda: f64) -> Option<(ParamVector, Vec<Vector3<f64>>)> {
+    /// The covariance of the nine parameters at the solution (the points marginalized out):
+    /// the inverse of the undamped Schur complement.
+    fn parameter_covariance(&self) -> Option<ParamHessian> {
+        let ((reduced, _), _) = self.reduced(0.0);
+        reduced.cholesky().map(|c| c.inverse())
+    }
+
+    /// The Schur complement of the points, damped by `1 + lambda`, with its gradient and the
+    /// points' inverted blocks.
+    fn reduced(&self, lambda: f64) -> ((ParamHessian, ParamVector), Vec<Matrix3<f64>>) {
         let damp3 = |m: &Matrix3<f64>| {
             let mut d = *m;
             for i in 0..3 {
@@ -516,6 +538,12 @@ impl NormalEquations {
             reduced_gradient -= coupling * self.point_gradient[j];
             inverses.push(inverse);
         }
+        ((reduced, reduced_gradient), inverses)
+    }
+
+    /// The damped step (Marquardt scaling by `1 + lambda`) for the parameters and each point.
+    fn solve(&self, lambda: f64) -> Option<(ParamVector, Vec<Vector3<f64>>)> {
+        let ((reduced, reduced_gradient), inverses) = self.reduced(lambda);
         let step = -reduced.cholesky()?.solve(&reduced_gradient);
         let point_steps = (0..self.point.len())
             .map(|j| -(inverses[j] * (self.point_gradient[j] + self.cross[j].transpose() * step)))

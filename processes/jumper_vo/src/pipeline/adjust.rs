@@ -82,7 +82,8 @@ impl JumperVo {
         self.ba_stats.accepted += 1;
         self.ba_stats.last = Some(outcome);
         self.ba_attitude_correction_rad = params.attitude_correction_rad;
-        self.fit.set_refined(&params.velocity_mps);
+        self.fit
+            .set_refined(&params.velocity_mps, outcome.velocity_covariance);
         let launch = UnitQuaternion::from_scaled_axis(params.attitude_correction_rad)
             * model.launch_rotation;
         self.spin.set_refined(&params.rate_radps, &launch);

@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::{JumperVo, Keyframe};
+use super::{JumperVo, Keyframe, Phase};
 use crate::config::ScaleMethod;
 use crate::output::{FrameInput, VoOutput, VoStatus};
 
@@ -111,5 +111,24 @@ impl JumperVo {
         out.is_keyframe = true;
         out.tracked_features = tracked.max(features);
         out
+    }
+
+    /// σ of the position `tau` after the launch, relative to the launch point: the launch
+    /// velocity's covariance carried over `tau`, and after a landing the slide's scatter on
+    /// top of the touchdown's. NaN while the velocity is unobservable.
+    pub(super) fn position_sigma_m(&self, tau: f64) -> f64 {
+        let flight_sigma = |tau: f64| {
+            self.fit
+                .velocity_covariance()
+                .map_or(f64::NAN, |c| tau.max(0.0) * c.trace().max(0.0).sqrt())
+        };
+        match (self.phase, self.touchdown) {
+            (Phase::Landed, Some(touchdown)) => {
+                let slide = self.config.landing_slide_sigma_m;
+                (flight_sigma(touchdown.tau_s).powi(2) + 2.0 * slide * slide).sqrt()
+            }
+            (Phase::WaitingFirstFrame, _) => 0.0,
+            _ => flight_sigma(tau),
+        }
     }
 }

@@ -43,7 +43,7 @@ fn lockstep_launch_records_every_frame_of_every_topic() {
         assert!(schema.name.starts_with("hopnav."), "{}", schema.name);
         schemas.insert(channel.topic.clone(), schema.name.clone());
     }
-    assert_eq!(schemas["hopnav/rover_vo/pose"], "hopnav.PoseEstimate.v1");
+    assert_eq!(schemas["hopnav/rover_vo/pose"], "hopnav.PoseEstimate.v2");
     assert_eq!(
         schemas["hopnav/camera/jumper"],
         "hopnav.ImageHeader.v1+u8[]"

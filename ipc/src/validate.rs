@@ -156,7 +156,10 @@ stamped!(PoseEstimate, |pose| {
     if !pose.world_from_body.is_valid() {
         return Err(Rejection::NonFinite("world_from_body"));
     }
-    finite("confidence", &[pose.confidence, pose.scale])?;
+    finite(
+        "confidence",
+        &[pose.confidence, pose.scale, pose.position_sigma_m],
+    )?;
     known("robot", pose.robot, Robot::from_code)
 });
 stamped!(DriveCommand, |command| {

@@ -6,7 +6,7 @@
 //! slice sample is its header's bytes followed by its elements' bytes.
 //!
 //! A type's [`WireBytes::LAYOUT_VERSION`] names its layout in a recording's schema
-//! (`hopnav.PoseEstimate.v1`): bump it whenever a field of the type (or of a type inside it)
+//! (`hopnav.PoseEstimate.v2`): bump it whenever a field of the type (or of a type inside it)
 //! is added, removed, moved or retyped, so an old recording is refused, not misread.
 //!
 //! ```
@@ -69,7 +69,7 @@ wire_bytes!(
     BodyStates = 1,
     AltimeterSample = 1,
     ImuSample = 1,
-    PoseEstimate = 1,
+    PoseEstimate = 2,
     DriveCommand = 1,
     JumpRequest = 1,
     HopLaunch = 1,
@@ -137,7 +137,7 @@ pub fn read_slice_sample<H: WireBytes, E: WireBytes>(bytes: &[u8]) -> Option<(H,
     Some((header, read_slice::<E>(rest)?))
 }
 
-/// The schema name of a message type, e.g. `hopnav.PoseEstimate.v1`.
+/// The schema name of a message type, e.g. `hopnav.PoseEstimate.v2`.
 pub fn schema_name<T: WireBytes>() -> String {
     format!("hopnav.{}.v{}", T::TYPE_NAME, T::LAYOUT_VERSION)
 }
@@ -208,7 +208,7 @@ mod tests {
 
     #[test]
     fn schema_names_carry_type_and_layout_version() {
-        assert_eq!(schema_name::<PoseEstimate>(), "hopnav.PoseEstimate.v1");
+        assert_eq!(schema_name::<PoseEstimate>(), "hopnav.PoseEstimate.v2");
         assert_eq!(
             slice_schema_name::<ImageHeader, u8>(),
             "hopnav.ImageHeader.v1+u8[]"

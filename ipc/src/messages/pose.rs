@@ -23,9 +23,11 @@ pub struct PoseEstimate {
     pub robot: u32,
     /// 1 if this frame became a keyframe.
     pub is_keyframe: u32,
-    /// A [`PoseQuality`] code: what the estimate rests on (0 in recordings made before it
-    /// existed).
+    /// A [`PoseQuality`] code: what the estimate rests on (0 when the producer does not say).
     pub quality: u32,
+    /// σ of the position relative to where the robot's current motion segment started (a
+    /// hop's launch point), metres; negative when the producer does not say.
+    pub position_sigma_m: f64,
 }
 
 /// What a pose estimate rests on, for consumers that weigh it.
@@ -61,7 +63,7 @@ impl PoseQuality {
     }
 }
 
-const _: () = assert!(size_of::<PoseEstimate>() == 120);
+const _: () = assert!(size_of::<PoseEstimate>() == 128);
 
 impl PoseEstimate {
     /// A VO's estimate of `robot`'s pose on the frame `frame` stamps (its index and simulated
@@ -84,7 +86,18 @@ impl PoseEstimate {
             robot: robot.code(),
             is_keyframe: u32::from(is_keyframe),
             quality: PoseQuality::Unknown as u32,
+            position_sigma_m: -1.0,
         }
+    }
+
+    /// The same estimate with its position σ (metres; NaN or negative: not said).
+    pub fn with_position_sigma(mut self, sigma_m: f64) -> Self {
+        self.position_sigma_m = if sigma_m >= 0.0 && sigma_m.is_finite() {
+            sigma_m
+        } else {
+            -1.0
+        };
+        self
     }
 
     /// The same estimate, saying what it rests on.
@@ -122,5 +135,8 @@ mod tests {
         )
         .with_quality(PoseQuality::Coasting);
         assert_eq!(PoseQuality::from_code(pose.quality), PoseQuality::Coasting);
+        assert_eq!(pose.position_sigma_m, -1.0);
+        assert_eq!(pose.with_position_sigma(0.3).position_sigma_m, 0.3);
+        assert_eq!(pose.with_position_sigma(f64::NAN).position_sigma_m, -1.0);
     }
 }

@@ -100,7 +100,7 @@ fn synthetic_messages_read_back_with_schemas_times_and_metadata() {
             (
                 "hopnav/rover_vo/pose".to_owned(),
                 "hopnav/repr-c".to_owned(),
-                "hopnav.PoseEstimate.v1".to_owned()
+                "hopnav.PoseEstimate.v2".to_owned()
             ),
         ]
     );

@@ -23,7 +23,8 @@ pub fn median_and_worst(values: &mut [f64]) -> Option<(f64, f64)> {
     Some((median, values[values.len() - 1]))
 }
 
-fn spread(values: &mut [f64], unit: &str) -> String {
+/// "median …, worst …" of `values` in `unit`, or "-" when empty.
+pub fn spread(values: &mut [f64], unit: &str) -> String {
     median_and_worst(values).map_or("-".to_owned(), |(median, worst)| {
         format!("median {median:.2}{unit}, worst {worst:.2}{unit}")
     })

@@ -113,7 +113,7 @@ fn write_outputs(
 /// The VO variants `eval vo` compares in one run: the default, the same without its local
 /// bundle adjustment, and the paper's eq. (4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum VoVariant {
+pub enum VoVariant {
     /// The default: ballistic scale with the local bundle adjustment.
     Default,
     /// Ballistic scale, the fits alone (`bundle_adjustment = false`).
@@ -125,7 +125,7 @@ enum VoVariant {
 const VO_VARIANTS: [VoVariant; 3] = [VoVariant::Default, VoVariant::FitsOnly, VoVariant::PaperEq4];
 
 impl VoVariant {
-    fn name(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
             Self::Default => "default",
             Self::FitsOnly => "fits-only",
@@ -133,7 +133,7 @@ impl VoVariant {
         }
     }
 
-    fn config(self) -> JumperVoConfig {
+    pub fn config(self) -> JumperVoConfig {
         let base = JumperVoConfig::default();
         match self {
             Self::Default => base,

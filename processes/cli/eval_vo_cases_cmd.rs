@@ -1,38 +1,31 @@
 //! `hopnav eval vo`'s harder cases: the tumbling launch and hops in a row, each run with the
 //! default VO and without its bundle adjustment in the same run.
 
+use crate::compare_quality::{median_and_worst, spread};
+use crate::eval_cmd::VoVariant;
 use hopnav_eval::jumper_vo::cases::{
     MultiHopOutcome, TUMBLE_RADPS, TumblingOutcome, hops_in_a_row, tumbling_launch,
 };
-use hopnav_jumper_vo::config::JumperVoConfig;
 
-use crate::compare_quality::median_and_worst;
+/// The VO variants the cases compare: the default and the fits alone (eq. 4 adds nothing
+/// where the flight model is all there is).
+const CASE_VARIANTS: [VoVariant; 2] = [VoVariant::Default, VoVariant::FitsOnly];
 
-/// The two VO settings the cases compare: the default and the fits alone.
-fn settings() -> [(&'static str, JumperVoConfig); 2] {
-    [
-        ("default", JumperVoConfig::default()),
-        (
-            "fits-only",
-            JumperVoConfig {
-                bundle_adjustment: false,
-                ..JumperVoConfig::default()
-            },
-        ),
-    ]
+/// The finite ones of `values` (a run without an estimate gives NaN).
+fn finite(values: &[f64]) -> Vec<f64> {
+    values.iter().copied().filter(|v| v.is_finite()).collect()
 }
 
-fn spread(values: &[f64]) -> String {
-    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+/// The spread of the finite `values`, metres, naming how many had no estimate.
+fn finite_spread(values: &[f64]) -> String {
+    let mut finite = finite(values);
     let lost = values.len() - finite.len();
-    let lost = if lost > 0 {
-        format!(", {lost} without an estimate")
+    let spread = spread(&mut finite, " m");
+    if lost > 0 {
+        format!("{spread}, {lost} without an estimate")
     } else {
-        String::new()
-    };
-    median_and_worst(&mut finite).map_or(format!("-{lost}"), |(median, worst)| {
-        format!("median {median:.2} m, worst {worst:.2} m{lost}")
-    })
+        spread
+    }
 }
 
 /// Runs the tumbling launch on each seed; prints a row per seed and the spread per setting.
@@ -40,8 +33,8 @@ pub fn tumbling(seeds: u64) -> Result<serde_json::Value, String> {
     let mut rows: Vec<(&str, TumblingOutcome)> = Vec::new();
     for seed in 1..=seeds {
         eprint!("\rtumbling launch, seed {seed}/{seeds} …          ");
-        for (name, config) in settings() {
-            rows.push((name, tumbling_launch(seed, &config)?));
+        for variant in CASE_VARIANTS {
+            rows.push((variant.name(), tumbling_launch(seed, &variant.config())?));
         }
     }
     eprintln!();
@@ -66,7 +59,7 @@ pub fn tumbling(seeds: u64) -> Result<serde_json::Value, String> {
         );
     }
     let mut summary = serde_json::Map::new();
-    for (name, _) in settings() {
+    for name in CASE_VARIANTS.map(VoVariant::name) {
         let finals: Vec<f64> = rows
             .iter()
             .filter(|(n, _)| *n == name)
@@ -74,7 +67,7 @@ pub fn tumbling(seeds: u64) -> Result<serde_json::Value, String> {
             .collect();
         println!(
             "{name}: tumbling final error {} (target <= 1 m)",
-            spread(&finals)
+            finite_spread(&finals)
         );
         summary.insert(
             name.to_owned(),
@@ -91,8 +84,11 @@ pub fn in_a_row(seeds: u64, hops: usize) -> Result<serde_json::Value, String> {
     let mut runs: Vec<(&str, MultiHopOutcome)> = Vec::new();
     for seed in 1..=seeds {
         eprint!("\r{hops} hops in a row, seed {seed}/{seeds} …          ");
-        for (name, config) in settings() {
-            runs.push((name, hops_in_a_row(seed, hops, &config)?));
+        for variant in CASE_VARIANTS {
+            runs.push((
+                variant.name(),
+                hops_in_a_row(seed, hops, &variant.config())?,
+            ));
         }
     }
     eprintln!();
@@ -101,7 +97,7 @@ pub fn in_a_row(seeds: u64, hops: usize) -> Result<serde_json::Value, String> {
          landing error after each hop, median / worst over {seeds} seeds, metres"
     );
     let mut summary = serde_json::Map::new();
-    for (name, _) in settings() {
+    for name in CASE_VARIANTS.map(VoVariant::name) {
         let per_hop: Vec<Vec<f64>> = (0..hops)
             .map(|k| {
                 runs.iter()
@@ -113,9 +109,7 @@ pub fn in_a_row(seeds: u64, hops: usize) -> Result<serde_json::Value, String> {
         let cells: Vec<String> = per_hop
             .iter()
             .map(|errors| {
-                let mut finite: Vec<f64> =
-                    errors.iter().copied().filter(|v| v.is_finite()).collect();
-                median_and_worst(&mut finite).map_or("-".to_owned(), |(median, worst)| {
+                median_and_worst(&mut finite(errors)).map_or("-".to_owned(), |(median, worst)| {
                     format!("{median:.2}/{worst:.2}")
                 })
             })

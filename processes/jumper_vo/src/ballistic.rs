@@ -163,10 +163,13 @@ impl BallisticFit {
         if self.refined_mps.is_some() {
             return self.refined_mps;
         }
-        let ridge = 1e-12 * (1.0 + self.normal.trace());
-        let n = self.normal + Matrix3::identity() * ridge;
-        let v = n.cholesky()?.solve(&self.rhs);
+        let v = self.ridged_normal().cholesky()?.solve(&self.rhs);
         v.iter().all(|x| x.is_finite()).then_some(v)
+    }
+
+    /// The normal matrix with a tiny ridge that keeps an altimeter-only fit solvable.
+    fn ridged_normal(&self) -> Matrix3<f64> {
+        self.normal + Matrix3::identity() * (1e-12 * (1.0 + self.normal.trace()))
     }
 
     /// Hands the launch velocity to a better estimate (the bundle adjustment, which reads the
@@ -186,10 +189,7 @@ impl BallisticFit {
         if self.refined_mps.is_some() && self.refined_covariance.is_some() {
             return self.refined_covariance;
         }
-        let ridge = 1e-12 * (1.0 + self.normal.trace());
-        let covariance = (self.normal + Matrix3::identity() * ridge)
-            .cholesky()?
-            .inverse();
+        let covariance = self.ridged_normal().cholesky()?.inverse();
         covariance
             .iter()
             .all(|v| v.is_finite())

@@ -477,7 +477,7 @@ impl JumperVo {
             // The next keyframe's base is the fitted attitude.
             self.last_vision_body_rotation = Some(pose.rotation);
         }
-        let world_from_cam = pose * self.body_from_camera;
+        let mut world_from_cam = pose * self.body_from_camera;
         let mut cloud = None;
         let mut cloud_world_from_camera = None;
         if make_keyframe && self.config.publish_cloud && est.scale_m.is_some() {
@@ -496,7 +496,6 @@ impl JumperVo {
         }
         self.tracks.retain(&self.keep);
         let mut tracked_after = est.tracked;
-        let mut world_from_cam = world_from_cam;
         if make_keyframe {
             tracked_after = self.tracks.set_keyframe().unwrap_or(0);
             if let Some(refined) = self.adjust_at_keyframe(tau) {

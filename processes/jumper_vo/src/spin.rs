@@ -138,6 +138,11 @@ impl SpinFit {
         self.rows.len()
     }
 
+    /// The commanded world-frame spin the fit started from (zero when it was not finite).
+    pub fn prior_radps(&self) -> Vector3<f64> {
+        self.prior_radps
+    }
+
     /// The measured rates disagree with the commanded spin: it no longer counts.
     pub fn prior_doubted(&self) -> bool {
         self.prior_doubted

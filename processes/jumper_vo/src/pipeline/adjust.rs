@@ -45,6 +45,11 @@ impl JumperVo {
     /// Records the tracks of the keyframe just set at `tau` and, with the adjustment on, runs
     /// it. Returns the refined body pose at `tau` when the fits took a result.
     pub(super) fn adjust_at_keyframe(&mut self, tau: f64) -> Option<Isometry3<f64>> {
+        // A keyframe that sees nothing (sky, a black frame) would only push seeing ones out
+        // of the window, and an adjustment without new sightings has nothing to add.
+        if self.tracks.track_id().is_empty() {
+            return None;
+        }
         let camera = self.camera;
         let tracks = self
             .tracks
@@ -52,11 +57,6 @@ impl JumperVo {
             .iter()
             .zip(self.tracks.current_px())
             .map(|(&id, px)| (id, camera.pixel_f32_to_normalized(*px)));
-        // A keyframe that sees nothing (sky, a black frame) would only push seeing ones out
-        // of the window, and an adjustment without new sightings has nothing to add.
-        if self.tracks.track_id().is_empty() {
-            return None;
-        }
         self.ba_window.add_keyframe(tau, tracks);
         if !self.config.bundle_adjustment || self.ba_window.keyframes() < 3 {
             return None;
@@ -97,7 +97,7 @@ impl JumperVo {
         FlightPrior {
             mean: FlightParams {
                 velocity_mps: self.commanded_velocity_mps,
-                rate_radps: self.spin_prior_radps(),
+                rate_radps: self.spin.prior_radps(),
                 attitude_correction_rad: Vector3::zeros(),
             },
             velocity_sigma_mps: if commanded {
@@ -112,11 +112,6 @@ impl JumperVo {
             },
             attitude_sigma_rad: self.config.ba_launch_attitude_sigma_rad,
         }
-    }
-
-    fn spin_prior_radps(&self) -> Vector3<f64> {
-        let [wx, wy, wz] = self.config.launch_angular_velocity_body_radps;
-        self.launch_world_from_body.rotation * Vector3::new(wx, wy, wz)
     }
 
     fn ba_settings(&self) -> BaSettings {

@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use hopnav_config::MissionMode;
+use hopnav_eval::traversability::MissedCauses;
 use hopnav_eval::{MissionEvaluation, TruthEvaluator};
 use hopnav_supervisor::{LaunchError, LaunchOptions, launch};
 use serde::Serialize;
@@ -59,8 +60,13 @@ struct MissionRow {
     /// The open share over every mapped cell within 5 m of the track, whichever way the
     /// camera looked.
     open_lethal_percent_near_track: Option<f64>,
+    /// The missed share with the map carried onto the truth by the rover VO's alignment (the
+    /// VO's misplacement of the whole map left out).
+    missed_lethal_percent_map_frame: Option<f64>,
     false_lethal_cells: Option<usize>,
     judged_cells: Option<usize>,
+    /// The missed cells by the rock that makes each lethal and what the map made of it.
+    missed_by_cause: Option<MissedCauses>,
 }
 
 pub fn run(args: TraversabilityArgs) -> ExitCode {
@@ -130,7 +136,10 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
     let blocked = evaluation
         .as_ref()
         .and_then(|evaluation| evaluation.blocked_area);
-    let near_track = evaluation.and_then(|evaluation| evaluation.blocked_area_near_track);
+    let near_track = evaluation
+        .as_ref()
+        .and_then(|evaluation| evaluation.blocked_area_near_track);
+    let map_frame = evaluation.and_then(|evaluation| evaluation.blocked_area_map_frame);
     MissionRow {
         golombek_k: k,
         seed,
@@ -142,8 +151,10 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
         uncertain_lethal_percent: blocked.and_then(|b| b.uncertain_lethal_percent()),
         open_lethal_percent: blocked.and_then(|b| b.open_lethal_percent()),
         open_lethal_percent_near_track: near_track.and_then(|b| b.open_lethal_percent()),
+        missed_lethal_percent_map_frame: map_frame.and_then(|b| b.missed_lethal_percent()),
         false_lethal_cells: blocked.map(|b| b.false_lethal_cells),
         judged_cells: blocked.map(|b| b.judged_cells),
+        missed_by_cause: blocked.map(|b| b.missed_by_cause),
     }
 }
 
@@ -160,13 +171,63 @@ fn fmt(value: Option<f64>, unit: &str) -> String {
     value.map_or("-".to_owned(), |value| format!("{value:.2}{unit}"))
 }
 
+/// Where the missed cells of each k lie, summed over its missions.
+fn print_missed_causes(rows: &[MissionRow]) {
+    println!(
+        "\nMissed cells by the rock that makes each lethal (summed): rim = the rock is lethal on the map and the cell\nin the outer cell's width of its truly lethal disc; inside = deeper; costly = the rock only costly; free = seen\nand left free; unseen = no mapped cell over it; near limit = of all, rocks within 5 cm of the climb limit.\n"
+    );
+    println!(
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11}",
+        "k", "missed", "rim", "inside", "costly", "free", "unseen", "steep", "near limit"
+    );
+    for k in ABUNDANCES {
+        let mut sum = MissedCauses::default();
+        let mut missions = 0;
+        for causes in rows
+            .iter()
+            .filter(|row| row.golombek_k == k)
+            .filter_map(|row| row.missed_by_cause)
+        {
+            missions += 1;
+            sum.rim_of_lethal_rock += causes.rim_of_lethal_rock;
+            sum.inside_of_lethal_rock += causes.inside_of_lethal_rock;
+            sum.rock_only_costly += causes.rock_only_costly;
+            sum.rock_seen_free += causes.rock_seen_free;
+            sum.rock_not_seen += causes.rock_not_seen;
+            sum.too_steep += causes.too_steep;
+            sum.near_limit_rock += causes.near_limit_rock;
+        }
+        if missions == 0 {
+            continue;
+        }
+        let missed = sum.rim_of_lethal_rock
+            + sum.inside_of_lethal_rock
+            + sum.rock_only_costly
+            + sum.rock_seen_free
+            + sum.rock_not_seen
+            + sum.too_steep;
+        println!(
+            "{:>5.2} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11}",
+            k,
+            missed,
+            sum.rim_of_lethal_rock,
+            sum.inside_of_lethal_rock,
+            sum.rock_only_costly,
+            sum.rock_seen_free,
+            sum.rock_not_seen,
+            sum.too_steep,
+            sum.near_limit_rock
+        );
+    }
+}
+
 /// Prints the table per k and writes eval_traversability.json.
 fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> ExitCode {
     println!(
-        "\nTruly lethal ground (the rover's body touches an unclimbable rock, or too steep) where the rover's camera looked within 5 m,\nby what the final map made of it: missed = mapped traversable, uncertain = mapped maybe too tall (a cost), open = both.\n"
+        "\nTruly lethal ground (the rover's body touches an unclimbable rock, or too steep) where the rover's camera looked within 5 m,\nby what the final map made of it: missed = mapped traversable, uncertain = mapped maybe too tall (a cost), open = both;\nthe rocks' footprints are their collision hulls; map-frame missed: the map carried onto the truth by the rover VO's best rigid fit.\n"
     );
     println!(
-        "{:>5} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16}",
+        "{:>5} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16} {:>16}",
         "k",
         "missions",
         "reached",
@@ -176,7 +237,8 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
         "uncertain %",
         "open %",
         "false cells",
-        "near track open %"
+        "near track open %",
+        "map-frame missed %"
     );
     println!("{:>52}", "(median / worst)");
     for k in ABUNDANCES {
@@ -191,7 +253,7 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
             })
         };
         println!(
-            "{:>5.2} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16}",
+            "{:>5.2} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16} {:>16}",
             k,
             of_k.len(),
             of_k.iter().filter(|row| row.goal_reached).count(),
@@ -204,8 +266,10 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
                 .filter_map(|row| row.false_lethal_cells)
                 .sum::<usize>(),
             spread(|row| row.open_lethal_percent_near_track),
+            spread(|row| row.missed_lethal_percent_map_frame),
         );
     }
+    print_missed_causes(rows);
     let path = args.out.join("eval_traversability.json");
     let written = serde_json::to_string_pretty(rows)
         .map_err(std::io::Error::other)

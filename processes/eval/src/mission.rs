@@ -9,15 +9,17 @@ use std::io::Write;
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::messages::{CellClass, Robot};
 use hopnav_mapper::config::MapperConfig;
+use hopnav_metrics::trajectory::align::{Similarity, umeyama};
 use hopnav_planner::mission::MapGeometry;
 use hopnav_robot::SlopeClass;
 use hopnav_supervisor::mission_record::{MissionRecord, RecordedMap};
 use hopnav_supervisor::mission_report::MissionReport;
+use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
-use crate::traversability::{BlockedArea, CameraView, MapCell, Reach, RockEllipse, blocked_area};
+use crate::traversability::{BlockedArea, CameraView, MapCell, Reach, RockOutline, blocked_area};
 use crate::true_slope::TrueSlopes;
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
@@ -59,6 +61,12 @@ pub struct MissionEvaluation {
     /// camera looked (rocks to the side seen only from afar count too).
     #[serde(default)]
     pub blocked_area_near_track: Option<BlockedArea>,
+    /// `blocked_area` in the map's own frame: the map carried onto the truth by the rigid
+    /// motion in the ground plane that best aligns the rover's VO with its true track, so the
+    /// few centimetres by which the VO misplaces the whole map do not count as the mapper's
+    /// error.
+    #[serde(default)]
+    pub blocked_area_map_frame: Option<BlockedArea>,
 }
 
 impl MissionEvaluation {
@@ -177,8 +185,9 @@ pub struct MissionTruth {
     pub goal_m: Option<[f64; 2]>,
     /// The world's rocks, regenerated from the config (`None` when it cannot be).
     pub rocks: Option<Vec<RockFootprint>>,
-    /// The same rocks' footprints as ellipses.
-    pub rock_ellipses: Option<Vec<RockEllipse>>,
+    /// The same rocks' footprints as the physics' collision hulls have them (what the
+    /// rover's body truly meets; their half-extent ellipses are off by the lumps, ±5 cm).
+    pub rock_outlines: Option<Vec<RockOutline>>,
     /// The mapper's obstacle threshold, metres.
     pub traversable_height_m: f64,
     /// The rover's climb limit, metres.
@@ -225,14 +234,13 @@ impl MissionTruth {
                 })
                 .collect()
         });
-        let rock_ellipses = generated.as_ref().map(|world| {
+        let rock_outlines = generated.as_ref().map(|world| {
             world
                 .rocks()
                 .iter()
-                .map(|rock| RockEllipse {
+                .map(|rock| RockOutline {
+                    outline_m: hopnav_world::footprint::rock_outline_m(rock),
                     center_m: [rock.center_m[0], rock.center_m[1]],
-                    semi_axes_m: [rock.half_extents_m[0], rock.half_extents_m[1]],
-                    yaw_rad: rock.yaw_rad,
                     height_m: rock.height_m,
                 })
                 .collect()
@@ -247,7 +255,7 @@ impl MissionTruth {
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
             rocks,
-            rock_ellipses,
+            rock_outlines,
             traversable_height_m: mapper
                 .as_ref()
                 .map_or(MapperConfig::default(), Clone::clone)
@@ -311,7 +319,7 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .iter()
             .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
             .collect(),
-        blocked_area: truth.rock_ellipses.as_deref().and_then(|rocks| {
+        blocked_area: truth.rock_outlines.as_deref().and_then(|rocks| {
             let map = record.map.as_ref()?;
             let camera = truth.rover_camera?;
             let views = rover_camera_views(record, &camera);
@@ -319,9 +327,23 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
                 views: &views,
                 half_fov_rad: camera.half_fov_rad,
             };
-            Some(judge_blocked_area(truth, map, &reach, rocks))
+            Some(judge_blocked_area(truth, map, &reach, rocks, |xy| xy))
         }),
-        blocked_area_near_track: truth.rock_ellipses.as_deref().and_then(|rocks| {
+        blocked_area_map_frame: truth.rock_outlines.as_deref().and_then(|rocks| {
+            let map = record.map.as_ref()?;
+            let camera = truth.rover_camera?;
+            let onto_truth = rover_vo_alignment(record)?;
+            let views = rover_camera_views(record, &camera);
+            let reach = Reach::InView {
+                views: &views,
+                half_fov_rad: camera.half_fov_rad,
+            };
+            Some(judge_blocked_area(truth, map, &reach, rocks, |[x, y]| {
+                let p = onto_truth.apply(&Point3::new(x, y, 0.0));
+                [p.x, p.y]
+            }))
+        }),
+        blocked_area_near_track: truth.rock_outlines.as_deref().and_then(|rocks| {
             let map = record.map.as_ref()?;
             let track_m: Vec<[f64; 2]> =
                 record.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
@@ -330,17 +352,44 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
                 map,
                 &Reach::NearTrack(&track_m),
                 rocks,
+                |xy| xy,
             ))
         }),
     }
 }
 
-/// The final map's lethal ground near the rover's track against the rocks'.
+/// The rigid motion in the ground plane (a turn about z and a shift) that best carries the
+/// rover's VO estimates onto its true positions (`None` with fewer than three pairs or a
+/// rover that did not move).
+fn rover_vo_alignment(record: &MissionRecord) -> Option<Similarity> {
+    ground_plane_alignment(
+        record
+            .vo
+            .iter()
+            .find(|vo| vo.robot == "rover")?
+            .track
+            .pairs(),
+    )
+}
+
+/// The rigid motion in the ground plane that best carries the estimates of `(time,
+/// estimate, truth)` pairs onto their truths (heights left out).
+fn ground_plane_alignment(pairs: &[(u64, Isometry3<f64>, Isometry3<f64>)]) -> Option<Similarity> {
+    let flat =
+        |p: &Isometry3<f64>| Point3::new(p.translation.vector.x, p.translation.vector.y, 0.0);
+    let estimate: Vec<_> = pairs.iter().map(|(_, e, _)| flat(e)).collect();
+    let truth: Vec<_> = pairs.iter().map(|(_, _, g)| flat(g)).collect();
+    umeyama(&estimate, &truth, false)
+}
+
+/// The final map's lethal ground near the rover's track against the rocks', each map cell's
+/// centre carried into the world's frame by `to_world`.
 fn judge_blocked_area(
     truth: &MissionTruth,
     map: &RecordedMap,
     reach: &Reach<'_>,
-    rocks: &[RockEllipse],
+    rocks: &[RockOutline],
+    to_world: impl Fn([f64; 2]) -> [f64; 2],
 ) -> BlockedArea {
     let size_m = map.cell_size_m;
     let cells: Vec<MapCell> = map
@@ -348,10 +397,10 @@ fn judge_blocked_area(
         .iter()
         .filter(|cell| cell.class != CellClass::Unknown)
         .map(|cell| MapCell {
-            centre_m: [
+            centre_m: to_world([
                 map.origin_m.0 + (f64::from(cell.x) + 0.5) * size_m,
                 map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
-            ],
+            ]),
             lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
             uncertain: cell.class == CellClass::Uncertain,
             costly: cell.extra_cost > 0,
@@ -481,4 +530,39 @@ fn score_map(
         truth.traversable_height_m - HEIGHT_TOLERANCE_M,
         truth.climbable_height_m,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ground_plane_alignment_undoes_a_turn_and_a_shift_of_the_whole_track() {
+        // The estimate is the truth turned by 0.5° about the origin and shifted by (4, −3) cm,
+        // at a height 0.3 m off (left out).
+        let turn = nalgebra::Rotation3::from_axis_angle(
+            &nalgebra::Vector3::z_axis(),
+            0.5_f64.to_radians(),
+        );
+        let pairs: Vec<_> = (0..40u64)
+            .map(|i| {
+                let truth = Point3::new(i as f64, 0.1 * (i as f64).powi(2) / 40.0, 0.0);
+                let estimate = turn * truth + nalgebra::Vector3::new(0.04, -0.03, 0.3);
+                (
+                    i,
+                    Isometry3::translation(estimate.x, estimate.y, estimate.z),
+                    Isometry3::translation(truth.x, truth.y, truth.z),
+                )
+            })
+            .collect();
+        let onto_truth = ground_plane_alignment(&pairs).expect("a track that moved aligns");
+        for (_, estimate, truth) in &pairs {
+            let [x, y] = [estimate.translation.vector.x, estimate.translation.vector.y];
+            let carried = onto_truth.apply(&Point3::new(x, y, 0.0));
+            let error_m = (carried.x - truth.translation.vector.x)
+                .hypot(carried.y - truth.translation.vector.y);
+            assert!(error_m < 1e-9, "{error_m}");
+        }
+        assert!(ground_plane_alignment(&pairs[..2]).is_none());
+    }
 }

@@ -74,6 +74,74 @@ impl RockEllipse {
     }
 }
 
+/// What the judge needs of a rock's footprint.
+pub trait Footprint {
+    /// Distance from `point_m` to the footprint's edge, metres; ≤ 0 inside.
+    fn gap_m(&self, point_m: [f64; 2]) -> f64;
+    /// A point inside it (its centre), world metres.
+    fn centre_m(&self) -> [f64; 2];
+    /// Height above its base, metres.
+    fn height_m(&self) -> f64;
+}
+
+impl Footprint for RockEllipse {
+    fn gap_m(&self, point_m: [f64; 2]) -> f64 {
+        RockEllipse::gap_m(self, point_m)
+    }
+    fn centre_m(&self) -> [f64; 2] {
+        self.center_m
+    }
+    fn height_m(&self) -> f64 {
+        self.height_m
+    }
+}
+
+/// A rock's footprint as the physics' collision hull has it: a convex polygon (see
+/// `hopnav_world::footprint::rock_outline_m`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RockOutline {
+    /// The outline, counter-clockwise, world metres.
+    pub outline_m: Vec<[f64; 2]>,
+    /// Centre of the rock's base, world metres.
+    pub center_m: [f64; 2],
+    /// Height above its base, metres.
+    pub height_m: f64,
+}
+
+impl Footprint for RockOutline {
+    /// Exact for the convex polygon: the distance to its nearest edge, negative inside.
+    fn gap_m(&self, point_m: [f64; 2]) -> f64 {
+        let n = self.outline_m.len();
+        if n < 3 {
+            return f64::INFINITY;
+        }
+        let mut nearest_m = f64::INFINITY;
+        let mut inside = true;
+        for i in 0..n {
+            let (a, b) = (self.outline_m[i], self.outline_m[(i + 1) % n]);
+            let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+            let (px, py) = (point_m[0] - a[0], point_m[1] - a[1]);
+            if ex * py - ey * px < 0.0 {
+                inside = false;
+            }
+            let length2 = ex * ex + ey * ey;
+            let t = if length2 > 0.0 {
+                ((px * ex + py * ey) / length2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            nearest_m = nearest_m.min((px - t * ex).hypot(py - t * ey));
+        }
+        if inside { -nearest_m } else { nearest_m }
+    }
+    fn centre_m(&self) -> [f64; 2] {
+        self.center_m
+    }
+    fn height_m(&self) -> f64 {
+        self.height_m
+    }
+}
+
 /// Cells farther than this from the rover's true track are not judged, metres.
 pub const NEAR_TRACK_M: f64 = 5.0;
 
@@ -167,6 +235,31 @@ pub struct BlockedArea {
     /// of the cells over them: [lethal, only costly, seen and left free, not seen].
     #[serde(default)]
     pub rocks_by_outcome: [usize; 4],
+    /// Where the missed cells are: what tells a disc drawn too small from a rock not found.
+    #[serde(default)]
+    pub missed_by_cause: MissedCauses,
+}
+
+/// The missed cells (truly lethal, mapped traversable), by the rock that makes each lethal
+/// (the one whose footprint is nearest) and what the map made of that rock.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MissedCauses {
+    /// The rock is lethal on the map and the cell lies in the outermost cell's width of its
+    /// truly lethal disc: the mapped disc is drawn a little too small.
+    pub rim_of_lethal_rock: usize,
+    /// The rock is lethal on the map, the cell deeper inside its truly lethal disc: the
+    /// mapped rock is much smaller than the true one, or off to one side.
+    pub inside_of_lethal_rock: usize,
+    /// The map holds the rock only costly (maybe too tall, or a band).
+    pub rock_only_costly: usize,
+    /// The map saw the rock's ground and left it free.
+    pub rock_seen_free: usize,
+    /// No mapped cell over the rock.
+    pub rock_not_seen: usize,
+    /// No rock: ground too steep.
+    pub too_steep: usize,
+    /// Of all the missed cells, those of rocks within 5 cm of the climb limit.
+    pub near_limit_rock: usize,
 }
 
 impl BlockedArea {
@@ -195,21 +288,22 @@ impl BlockedArea {
 /// Judges the `cells` (a grid of `cell_size_m`) that `reach` covers against the `rocks`
 /// taller than `climb_limit_m`, for a rover of `inscribed_m`, and against the ground
 /// `too_steep(centre_m)` says the rover's centre cannot stand on.
-pub fn blocked_area(
+pub fn blocked_area<R: Footprint>(
     cells: &[MapCell],
-    rocks: &[RockEllipse],
+    rocks: &[R],
     reach: &Reach<'_>,
     cell_size_m: f64,
     climb_limit_m: f64,
     inscribed_m: f64,
     too_steep: impl Fn([f64; 2]) -> bool,
 ) -> BlockedArea {
-    let blocking: Vec<&RockEllipse> = rocks
+    let blocking: Vec<&R> = rocks
         .iter()
-        .filter(|rock| rock.height_m > climb_limit_m)
+        .filter(|rock| rock.height_m() > climb_limit_m)
         .collect();
     let cell_m2 = cell_size_m * cell_size_m;
     let mut result = BlockedArea::default();
+    let mut outcomes: Vec<Option<usize>> = vec![None; blocking.len()];
     for cell in cells {
         if !reach.covers(cell.centre_m) {
             continue;
@@ -228,31 +322,70 @@ pub fn blocked_area(
         }
         match (cell.lethal, truly_lethal) {
             (false, true) if cell.uncertain => result.uncertain_lethal_cells += 1,
-            (false, true) => result.missed_lethal_cells += 1,
+            (false, true) => {
+                result.missed_lethal_cells += 1;
+                let nearest = nearest_rock(&blocking, cell.centre_m)
+                    .filter(|&(_, gap_m)| gap_m < inscribed_m);
+                let causes = &mut result.missed_by_cause;
+                let Some((rock_index, gap_m)) = nearest else {
+                    causes.too_steep += 1;
+                    continue;
+                };
+                let rock = blocking[rock_index];
+                let outcome = *outcomes[rock_index]
+                    .get_or_insert_with(|| rock_outcome(cells, rock, cell_size_m));
+                match outcome {
+                    0 if gap_m >= inscribed_m - cell_size_m => causes.rim_of_lethal_rock += 1,
+                    0 => causes.inside_of_lethal_rock += 1,
+                    1 => causes.rock_only_costly += 1,
+                    2 => causes.rock_seen_free += 1,
+                    _ => causes.rock_not_seen += 1,
+                }
+                if rock.height_m() < climb_limit_m + NEAR_LIMIT_M {
+                    causes.near_limit_rock += 1;
+                }
+            }
             (true, false) => result.false_lethal_cells += 1,
             _ => {}
         }
     }
     result.blocked_area_ratio =
         (result.true_lethal_m2 > 0.0).then(|| result.mapped_lethal_m2 / result.true_lethal_m2);
-    for rock in blocking.iter().filter(|rock| reach.covers(rock.center_m)) {
-        // The cells over the rock (a cell counts when its centre is within half a cell of it).
-        let over: Vec<&MapCell> = cells
-            .iter()
-            .filter(|cell| rock.gap_m(cell.centre_m) <= 0.5 * cell_size_m)
-            .collect();
-        let outcome = if over.iter().any(|cell| cell.lethal) {
-            0
-        } else if over.iter().any(|cell| cell.costly) {
-            1
-        } else if !over.is_empty() {
-            2
-        } else {
-            3
-        };
-        result.rocks_by_outcome[outcome] += 1;
+    for rock in blocking.iter().filter(|rock| reach.covers(rock.centre_m())) {
+        result.rocks_by_outcome[rock_outcome(cells, *rock, cell_size_m)] += 1;
     }
     result
+}
+
+/// Rocks this close above the climb limit count as near-limit, metres.
+const NEAR_LIMIT_M: f64 = 0.05;
+
+/// The blocking rock whose footprint is nearest `point_m`, and the gap to it, metres.
+fn nearest_rock<R: Footprint>(blocking: &[&R], point_m: [f64; 2]) -> Option<(usize, f64)> {
+    blocking
+        .iter()
+        .map(|rock| rock.gap_m(point_m))
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// What the map made of the cells over `rock` (a cell counts when its centre is within half a
+/// cell of it): 0 lethal, 1 only costly, 2 seen and left free, 3 not seen.
+fn rock_outcome<R: Footprint>(cells: &[MapCell], rock: &R, cell_size_m: f64) -> usize {
+    let over = || {
+        cells
+            .iter()
+            .filter(|cell| rock.gap_m(cell.centre_m) <= 0.5 * cell_size_m)
+    };
+    if over().any(|cell| cell.lethal) {
+        0
+    } else if over().any(|cell| cell.costly) {
+        1
+    } else if over().next().is_some() {
+        2
+    } else {
+        3
+    }
 }
 
 #[cfg(test)]
@@ -307,6 +440,24 @@ mod tests {
     }
 
     #[test]
+    fn the_gap_to_an_outline_is_its_distance_to_the_nearest_edge_negative_inside() {
+        let square = RockOutline {
+            outline_m: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            center_m: [0.5, 0.5],
+            height_m: 0.4,
+        };
+        assert!((square.gap_m([0.5, 0.5]) + 0.5).abs() < 1e-12);
+        assert!((square.gap_m([0.9, 0.5]) + 0.1).abs() < 1e-12);
+        assert!((square.gap_m([1.3, 0.5]) - 0.3).abs() < 1e-12);
+        assert!((square.gap_m([2.0, 2.0]) - 2f64.sqrt()).abs() < 1e-12);
+        let degenerate = RockOutline {
+            outline_m: vec![[0.0, 0.0]],
+            ..square
+        };
+        assert_eq!(degenerate.gap_m([0.0, 0.0]), f64::INFINITY);
+    }
+
+    #[test]
     fn a_map_that_blocks_twice_the_ground_has_a_ratio_near_two_and_no_misses() {
         let rocks = [rock(0.0, 0.0, 0.3, 0.5)];
         let cells = grid(|c| c[0].hypot(c[1]) < 0.7 * std::f64::consts::SQRT_2);
@@ -358,6 +509,25 @@ mod tests {
     }
 
     #[test]
+    fn a_lethal_disc_drawn_too_small_is_missed_at_its_rim_and_an_unseen_rock_as_unseen() {
+        // The rock at the origin is mapped lethal out to 0.3 m of its centre, 0.4 m short of
+        // its truly lethal disc (0.3 + 0.4 m): its misses lie in the outer cell's width or
+        // deeper. The near-limit rock at x = 3 has no mapped cell over it.
+        let rocks = [rock(0.0, 0.0, 0.3, 0.5), rock(3.0, 0.0, 0.3, 0.22)];
+        let mut cells = grid(|c| c[0].hypot(c[1]) < 0.3);
+        cells.retain(|cell| (cell.centre_m[0] - 3.0).hypot(cell.centre_m[1]) > 0.45);
+        let result = judged_near_track(&cells, &rocks, [0.0, 0.0]);
+        let causes = result.missed_by_cause;
+        assert!(causes.rim_of_lethal_rock > 0 && causes.inside_of_lethal_rock > 0);
+        assert!(causes.rock_not_seen > 0);
+        assert_eq!(
+            causes.rim_of_lethal_rock + causes.inside_of_lethal_rock + causes.rock_not_seen,
+            result.missed_lethal_cells
+        );
+        assert_eq!(causes.near_limit_rock, causes.rock_not_seen);
+    }
+
+    #[test]
     fn ground_too_steep_to_stand_on_is_truly_lethal_without_a_rock() {
         // A crater's wall along x > 1: a map that shuts it is right, one that leaves it open
         // misses it.
@@ -365,7 +535,7 @@ mod tests {
         let judged = |cells: &[MapCell]| {
             blocked_area(
                 cells,
-                &[],
+                &[] as &[RockEllipse],
                 &Reach::NearTrack(&[[0.0, 0.0]]),
                 0.25,
                 0.2,

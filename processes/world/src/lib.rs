@@ -7,6 +7,7 @@
 //!   fractal relief and [`craters`], plus [`rocks`] from the Golombek size-frequency model,
 //!   clusters and explicit rocks;
 //! - [`mesh`]: triangle meshes of terrain and rocks (e.g. for colliders);
+//! - [`footprint`]: a rock's outline as the rover's body meets it (for the evaluation);
 //! - [`texture`], [`bake`], [`shadows`]: procedural textures with baked shading and cast
 //!   shadows;
 //! - [`raster`]: a hand-written z-buffer rasterizer with perspective-correct texturing,
@@ -46,6 +47,7 @@ pub mod camera;
 pub mod config;
 pub mod craters;
 pub mod error;
+pub mod footprint;
 pub mod landforms;
 pub mod mesh;
 pub mod noise;

@@ -57,7 +57,8 @@ impl CellPoints {
         self.len = (usize::from(self.len) + 1).min(POINTS_PER_CELL) as u8;
     }
 
-    fn as_slice(&self) -> &[RockPoint] {
+    /// The points held, oldest first after a wrap (evaluation and snapshots read them).
+    pub fn as_slice(&self) -> &[RockPoint] {
         &self.points[..usize::from(self.len).min(POINTS_PER_CELL)]
     }
 }

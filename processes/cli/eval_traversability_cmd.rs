@@ -174,11 +174,20 @@ fn fmt(value: Option<f64>, unit: &str) -> String {
 /// Where the missed cells of each k lie, summed over its missions.
 fn print_missed_causes(rows: &[MissionRow]) {
     println!(
-        "\nMissed cells by the rock that makes each lethal (summed): rim = the rock is lethal on the map and the cell\nin the outer cell's width of its truly lethal disc; inside = deeper; costly = the rock only costly; free = seen\nand left free; unseen = no mapped cell over it; near limit = of all, rocks within 5 cm of the climb limit.\n"
+        "\nMissed cells by the rock that makes each lethal (summed): rim = the rock is lethal on the map and the cell\nin the outer cell's width of its truly lethal disc; inside = deeper; costly = the rock only costly; free = seen\nand left free; unseen = no mapped cell over it; near limit = of all, rocks within 5 cm of the climb limit;\nunobserved = of all, cells no feature landed in (their class comes from the rocks around them).\n"
     );
     println!(
-        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11}",
-        "k", "missed", "rim", "inside", "costly", "free", "unseen", "steep", "near limit"
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>11}",
+        "k",
+        "missed",
+        "rim",
+        "inside",
+        "costly",
+        "free",
+        "unseen",
+        "steep",
+        "near limit",
+        "unobserved"
     );
     for k in ABUNDANCES {
         let mut sum = MissedCauses::default();
@@ -196,6 +205,7 @@ fn print_missed_causes(rows: &[MissionRow]) {
             sum.rock_not_seen += causes.rock_not_seen;
             sum.too_steep += causes.too_steep;
             sum.near_limit_rock += causes.near_limit_rock;
+            sum.unobserved += causes.unobserved;
         }
         if missions == 0 {
             continue;
@@ -207,7 +217,7 @@ fn print_missed_causes(rows: &[MissionRow]) {
             + sum.rock_not_seen
             + sum.too_steep;
         println!(
-            "{:>5.2} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11}",
+            "{:>5.2} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>11}",
             k,
             missed,
             sum.rim_of_lethal_rock,
@@ -216,7 +226,8 @@ fn print_missed_causes(rows: &[MissionRow]) {
             sum.rock_seen_free,
             sum.rock_not_seen,
             sum.too_steep,
-            sum.near_limit_rock
+            sum.near_limit_rock,
+            sum.unobserved
         );
     }
 }

@@ -404,6 +404,7 @@ fn judge_blocked_area(
             lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
             uncertain: cell.class == CellClass::Uncertain,
             costly: cell.extra_cost > 0,
+            unobserved: cell.observed_by == 0,
         })
         .collect();
     blocked_area(

@@ -21,7 +21,7 @@
 //!     .map(|(x, y)| {
 //!         let centre_m = [0.125 + 0.25 * x as f64, 0.125 + 0.25 * y as f64];
 //!         let lethal = centre_m[0].hypot(centre_m[1]) < 0.7;
-//!         MapCell { centre_m, lethal, uncertain: false, costly: false }
+//!         MapCell { centre_m, lethal, uncertain: false, costly: false, unobserved: false }
 //!     })
 //!     .collect();
 //! let track = Reach::NearTrack(&[[0.0, -1.5], [0.0, 1.5]]);
@@ -209,6 +209,9 @@ pub struct MapCell {
     pub uncertain: bool,
     /// The map charges an extra cost to enter it (inflation, or maybe too tall).
     pub costly: bool,
+    /// No feature of either robot landed in it: its class comes from the rocks around it
+    /// (their inflation) or it is unknown.
+    pub unobserved: bool,
 }
 
 /// The map's blocked ground against the truth's, near the rover's track.
@@ -260,6 +263,10 @@ pub struct MissedCauses {
     pub too_steep: usize,
     /// Of all the missed cells, those of rocks within 5 cm of the climb limit.
     pub near_limit_rock: usize,
+    /// Of all the missed cells, those no feature landed in (the map had nothing of its own
+    /// there: ground hidden behind a rock or a crater's rim, or bare of texture).
+    #[serde(default)]
+    pub unobserved: usize,
 }
 
 impl BlockedArea {
@@ -324,6 +331,7 @@ pub fn blocked_area<R: Footprint>(
             (false, true) if cell.uncertain => result.uncertain_lethal_cells += 1,
             (false, true) => {
                 result.missed_lethal_cells += 1;
+                result.missed_by_cause.unobserved += usize::from(cell.unobserved);
                 let nearest = nearest_rock(&blocking, cell.centre_m)
                     .filter(|&(_, gap_m)| gap_m < inscribed_m);
                 let causes = &mut result.missed_by_cause;
@@ -420,6 +428,7 @@ mod tests {
                     lethal: lethal(centre_m),
                     uncertain: false,
                     costly: false,
+                    unobserved: false,
                 }
             })
             .collect()
@@ -516,6 +525,10 @@ mod tests {
         let rocks = [rock(0.0, 0.0, 0.3, 0.5), rock(3.0, 0.0, 0.3, 0.22)];
         let mut cells = grid(|c| c[0].hypot(c[1]) < 0.3);
         cells.retain(|cell| (cell.centre_m[0] - 3.0).hypot(cell.centre_m[1]) > 0.45);
+        // No feature landed beyond x = 2.2 (around the far rock).
+        for cell in &mut cells {
+            cell.unobserved = cell.centre_m[0] > 2.2;
+        }
         let result = judged_near_track(&cells, &rocks, [0.0, 0.0]);
         let causes = result.missed_by_cause;
         assert!(causes.rim_of_lethal_rock > 0 && causes.inside_of_lethal_rock > 0);
@@ -525,6 +538,7 @@ mod tests {
             result.missed_lethal_cells
         );
         assert_eq!(causes.near_limit_rock, causes.rock_not_seen);
+        assert_eq!(causes.unobserved, causes.rock_not_seen);
     }
 
     #[test]

@@ -43,11 +43,19 @@ fn main() -> Result<(), Box<dyn Error>> {
         100.0 * gaps.iter().filter(|gap| **gap > limit_m).count() as f64 / gaps.len().max(1) as f64
     };
     println!("{} runs", runs.len());
+    let between = |lo: f64, hi: f64| gaps.iter().filter(|gap| **gap > lo && **gap <= hi).count();
+    let off = between(0.1, f64::INFINITY).max(1) as f64;
     println!(
         "points taller than 0.1 m: {}; beyond every rock by > 0.1 m: {:.1} %, > 0.2 m: {:.1} %",
         gaps.len(),
         share(0.1),
         share(0.2)
+    );
+    println!(
+        "  of those beyond 0.1 m, gap 0.1-0.3 m: {:.0} %, 0.3-0.6 m: {:.0} %, farther: {:.0} %",
+        100.0 * between(0.1, 0.3) as f64 / off,
+        100.0 * between(0.3, 0.6) as f64 / off,
+        100.0 * between(0.6, f64::INFINITY) as f64 / off
     );
     let column = |k: usize| spread(samples.domes.iter().map(|dome| dome[k]).collect());
     println!("fitted rocks on unclimbable rocks: {}", samples.domes.len());

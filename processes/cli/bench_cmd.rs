@@ -27,6 +27,10 @@ pub enum BenchCommand {
     /// Rover stereo VO cost per 320×240 stereo frame over a rendered traverse (wall and
     /// thread-CPU p50/p99/max).
     RoverVo(crate::rover_vo_cmd::RoverVoBenchArgs),
+    /// The real-time mission on a loaded machine: a launch as it is, then one with hogs
+    /// beside it (CPU spinners or memory streamers); frame misses, end-to-end p50/p99 and
+    /// each stage's overruns, side by side.
+    Realtime(crate::bench_realtime::RealtimeArgs),
     /// One peer of `bench ipc` (started by it; not for direct use).
     #[command(hide = true)]
     IpcPeer(IpcPeerArgs),
@@ -102,6 +106,7 @@ pub fn run(command: BenchCommand) -> ExitCode {
         BenchCommand::Physics(args) => physics(args),
         BenchCommand::Vo(args) => vo(args),
         BenchCommand::RoverVo(args) => crate::rover_vo_cmd::bench(args),
+        BenchCommand::Realtime(args) => crate::bench_realtime::run(args),
     }
 }
 

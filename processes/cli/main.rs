@@ -2,6 +2,8 @@
 //! every child, so all processes share one build and one message layout.
 
 mod bench_cmd;
+mod bench_hogs;
+mod bench_realtime;
 mod chaos_cmd;
 mod compare_cmd;
 mod compare_expect;

@@ -59,6 +59,22 @@ pub fn watch(
     tick: Duration,
     watcher: &mut dyn Watcher,
 ) -> Result<(WatchEnd, RejectCounts), LiveError> {
+    let watched = watch_on_own_node(namespace, topic, tick, watcher);
+    if matches!(watched, Ok((WatchEnd::LaunchEnded, _))) {
+        // The launch removes its namespace's files once no node of it lives; a tool still
+        // attached then keeps them, so the last one out (this tool, its node gone now) does.
+        namespace.remove_files_if_unused();
+    }
+    watched
+}
+
+/// [`watch`] with its node, ports and WaitSet, all dropped on return.
+fn watch_on_own_node(
+    namespace: &Namespace,
+    topic: &KnownTopic,
+    tick: Duration,
+    watcher: &mut dyn Watcher,
+) -> Result<(WatchEnd, RejectCounts), LiveError> {
     let node = namespace.create_node("topic_tap")?;
     let tap = topic.kind.visit(OpenTap {
         node: &node,

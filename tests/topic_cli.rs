@@ -151,9 +151,30 @@ fn topic_list_and_hz_see_a_running_lockstep_launch() {
         text(&unknown)
     );
 
-    // The tools left nothing behind: the launch cleans its namespace up completely.
+    // A tool still watching when the launch stops sees it end and leaves in time for the
+    // launch to remove its whole namespace.
+    let mut watching = hopnav()
+        .args(["topic", "hz", "hopnav/rover_vo/pose", "--run", &run])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn hz");
+    let mut watching_stderr = std::io::BufReader::new(watching.stderr.take().expect("stderr"));
+    let mut first_line = String::new();
+    std::io::BufRead::read_line(&mut watching_stderr, &mut first_line).expect("hz stderr");
+    assert!(first_line.starts_with("subscribed to"), "{first_line}");
     drop(launch);
+    let status = wait_with_limit(&mut watching, Duration::from_secs(30)).expect("hz ends");
+    let mut rest = String::new();
+    let _ = std::io::Read::read_to_string(&mut watching_stderr, &mut rest);
+    assert!(status.success(), "{rest}");
+    assert!(rest.contains(&format!("launch {run} ended")), "{rest}");
     assert_eq!(report(&out, &run)["leftover_files"], 0);
+    assert!(
+        leftover_files(&run).is_empty(),
+        "{:?}",
+        leftover_files(&run)
+    );
 }
 
 #[test]

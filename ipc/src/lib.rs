@@ -19,6 +19,7 @@
 pub mod codec;
 pub mod fault;
 pub mod latency;
+pub mod live;
 pub mod messages;
 pub mod namespace;
 pub mod node_error;

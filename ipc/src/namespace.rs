@@ -365,7 +365,8 @@ fn file_name_starts_with(path: &Path, prefix: &str) -> bool {
         .is_some_and(|name| name.starts_with(prefix))
 }
 
-fn run_ids_on_disk() -> Vec<String> {
+/// Run ids that have files on disk, live or dead, sorted.
+pub(crate) fn run_ids_on_disk() -> Vec<String> {
     let mut run_ids: Vec<String> = hopnav_files()
         .iter()
         .filter_map(|path| path.file_name()?.to_str().map(str::to_owned))

@@ -25,6 +25,9 @@ mod registry;
 mod rover_vo_cmd;
 mod run_cmd;
 mod setup;
+mod topic_cmd;
+mod topic_echo;
+mod topic_hz;
 
 use std::process::ExitCode;
 
@@ -63,6 +66,10 @@ enum Command {
     /// Print the whole default configuration (the embedded file merged over every process
     /// library's defaults): every key a config file may override, with its value.
     Defaults(defaults_cmd::DefaultsArgs),
+    /// Look at the topics of a running launch: list them with their types, processes and
+    /// sizes, measure one's rate, or print its samples (`--run ID` when several launches run).
+    #[command(subcommand)]
+    Topic(topic_cmd::TopicCommand),
 }
 
 /// Exit code for a bad configuration or usage, as documented in the README.
@@ -81,5 +88,6 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare_cmd::run(args),
         Command::Chaos(args) => chaos_cmd::run(args),
         Command::Defaults(args) => defaults_cmd::run(args),
+        Command::Topic(command) => topic_cmd::run(command),
     }
 }

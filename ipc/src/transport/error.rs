@@ -23,6 +23,22 @@ pub enum OpenError {
         /// iceoryx2's reason.
         reason: String,
     },
+    /// The topic does not exist (a tool opens only topics of a running launch).
+    #[error("topic {0:?} does not exist in this launch")]
+    NoSuchTopic(String),
+    /// The topic has no subscriber slot to spare for a tool: a tool takes one only if one more
+    /// stays free for a restarting consumer of the graph.
+    #[error(
+        "topic {topic:?} has no subscriber slot to spare ({in_use} of {max_subscribers} in use; a tool leaves one free for a restarting consumer): stop another tool on it, or try again"
+    )]
+    NoFreeSubscriberSlot {
+        /// Topic name.
+        topic: String,
+        /// Subscribers the topic has now.
+        in_use: usize,
+        /// The topic's subscriber limit.
+        max_subscribers: usize,
+    },
     /// The port could not be created (e.g. too many publishers, or shared memory exhausted).
     #[error("topic {topic:?}: cannot create port: {reason}")]
     Port {

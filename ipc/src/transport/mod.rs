@@ -9,7 +9,7 @@
 mod error;
 mod intake;
 mod keyframe_cloud;
-mod open;
+pub(crate) mod open;
 mod outlet;
 mod publisher;
 mod slice_publisher;

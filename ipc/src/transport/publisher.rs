@@ -4,7 +4,7 @@ use iceoryx2::node::Node;
 use iceoryx2::port::publisher::Publisher as RawPublisher;
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::open::{data_service, event_service, port_error};
+use super::open::{OpenMode, data_service, event_service, port_error};
 use super::outlet::Outlet;
 use super::{OpenError, SendError};
 use crate::IpcService;
@@ -23,8 +23,8 @@ pub struct Publisher<M: Message + ZeroCopySend> {
 impl<M: Message + ZeroCopySend> Publisher<M> {
     /// Opens (or creates) the topic and a publisher port on it.
     pub fn open(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
-        let data = data_service::<M, ()>(node, spec)?;
-        let events = event_service(node, spec)?;
+        let data = data_service::<M, ()>(node, spec, OpenMode::OpenOrCreate)?;
+        let events = event_service(node, spec, OpenMode::OpenOrCreate)?;
         let port = data
             .publisher_builder()
             .create()

@@ -6,7 +6,7 @@ use iceoryx2::node::Node;
 use iceoryx2::port::publisher::Publisher as RawPublisher;
 use iceoryx2::prelude::{AllocationStrategy, ZeroCopySend};
 
-use super::open::{event_service, port_error, slice_data_service};
+use super::open::{OpenMode, event_service, port_error, slice_data_service};
 use super::outlet::Outlet;
 use super::{OpenError, SendError};
 use crate::IpcService;
@@ -45,8 +45,8 @@ where
         spec: &TopicSpec,
         max_len: usize,
     ) -> Result<Self, OpenError> {
-        let data = slice_data_service::<H::Element, H>(node, spec)?;
-        let events = event_service(node, spec)?;
+        let data = slice_data_service::<H::Element, H>(node, spec, OpenMode::OpenOrCreate)?;
+        let events = event_service(node, spec, OpenMode::OpenOrCreate)?;
         let port = data
             .publisher_builder()
             .initial_max_slice_len(max_len.max(1))

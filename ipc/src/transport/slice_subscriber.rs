@@ -6,7 +6,7 @@ use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 use iceoryx2::sample::Sample;
 
-use super::intake::{Intake, newest, open_subscriber};
+use super::intake::{Intake, Role, newest, open_subscriber};
 use super::open::{event_service, slice_data_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
@@ -54,9 +54,20 @@ where
 {
     /// Opens (or creates) the topic and a subscriber port on it; receives the topic's history.
     pub fn open(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
-        let data = slice_data_service::<H::Element, H>(node, spec)?;
-        let events = event_service(node, spec)?;
-        let (port, intake) = open_subscriber(&data, &events, spec)?;
+        Self::open_as(node, spec, Role::Consumer)
+    }
+
+    /// Opens an extra subscriber on a topic of a running launch, for a tool: the topic must
+    /// exist, a free subscriber slot must be left, and no history is taken. The topic's
+    /// overflow policy keeps a slow tool from holding any publisher back.
+    pub fn open_tap(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
+        Self::open_as(node, spec, Role::Tap)
+    }
+
+    fn open_as(node: &Node<IpcService>, spec: &TopicSpec, role: Role) -> Result<Self, OpenError> {
+        let data = slice_data_service::<H::Element, H>(node, spec, role.open_mode())?;
+        let events = event_service(node, spec, role.open_mode())?;
+        let (port, intake) = open_subscriber(&data, &events, spec, role)?;
         Ok(Self { port, intake })
     }
 

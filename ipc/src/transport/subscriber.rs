@@ -6,7 +6,7 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber as RawSubscriber;
 use iceoryx2::prelude::ZeroCopySend;
 
-use super::intake::{Intake, newest, open_subscriber};
+use super::intake::{Intake, Role, newest, open_subscriber};
 use super::open::{data_service, event_service};
 use super::{OpenError, ReceiveError, RejectCounts};
 use crate::IpcService;
@@ -23,9 +23,20 @@ pub struct Subscriber<M: Message + ZeroCopySend> {
 impl<M: Message + ZeroCopySend> Subscriber<M> {
     /// Opens (or creates) the topic and a subscriber port on it; receives the topic's history.
     pub fn open(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
-        let data = data_service::<M, ()>(node, spec)?;
-        let events = event_service(node, spec)?;
-        let (port, intake) = open_subscriber(&data, &events, spec)?;
+        Self::open_as(node, spec, Role::Consumer)
+    }
+
+    /// Opens an extra subscriber on a topic of a running launch, for a tool: the topic must
+    /// exist, a free subscriber slot must be left, and no history is taken. The topic's
+    /// overflow policy keeps a slow tool from holding any publisher back.
+    pub fn open_tap(node: &Node<IpcService>, spec: &TopicSpec) -> Result<Self, OpenError> {
+        Self::open_as(node, spec, Role::Tap)
+    }
+
+    fn open_as(node: &Node<IpcService>, spec: &TopicSpec, role: Role) -> Result<Self, OpenError> {
+        let data = data_service::<M, ()>(node, spec, role.open_mode())?;
+        let events = event_service(node, spec, role.open_mode())?;
+        let (port, intake) = open_subscriber(&data, &events, spec, role)?;
         Ok(Self { port, intake })
     }
 

@@ -180,11 +180,20 @@ fn finish(
 
 /// Once every node of the run is gone: gives the kernel a moment to let the last unmaps
 /// settle, then removes what iceoryx2 keeps per namespace; returns how many files are left.
+/// A tool watching from outside (`hopnav topic`) holds a node of the run too: it notices the
+/// end within its one-second tick and leaves, so its node is waited for that long.
 fn remove_namespace_files(namespace: &Namespace) -> usize {
     std::thread::sleep(Duration::from_millis(20));
+    let tools_gone_by = Instant::now() + TOOLS_LEAVE_WITHIN;
+    while namespace.remove_dead_nodes().alive > 0 && Instant::now() < tools_gone_by {
+        std::thread::sleep(Duration::from_millis(50));
+    }
     namespace.remove_files_if_unused();
     namespace.leftover_files().len()
 }
+
+/// How long a `hopnav topic` tool may take to leave a launch that ended (its tick is 1 s).
+const TOOLS_LEAVE_WITHIN: Duration = Duration::from_millis(1500);
 
 /// Removes what launches that died left behind (their nodes and files), saying so.
 fn clean_up_dead_runs() -> namespace::StaleCleanup {

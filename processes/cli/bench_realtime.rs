@@ -57,8 +57,17 @@ struct LoadedRun {
     end_to_end_max_ms: f64,
     /// Frames whose end-to-end latency exceeded the frame period.
     end_to_end_misses: u64,
-    /// Per process: (name, budget misses, cycle time p99 ms, budget ms).
-    stages: Vec<(String, u64, f64, f64)>,
+    /// Per process.
+    stages: Vec<StageRun>,
+}
+
+/// One process of a launch.
+#[derive(Debug, Clone, Serialize)]
+struct StageRun {
+    name: String,
+    budget_misses: u64,
+    cycle_p99_ms: f64,
+    budget_ms: f64,
 }
 
 impl LoadedRun {
@@ -81,13 +90,11 @@ impl LoadedRun {
             stages: report
                 .processes
                 .iter()
-                .map(|p| {
-                    (
-                        p.name.clone(),
-                        p.budget_misses,
-                        p.cycle_time.p99_ms,
-                        p.budget_ms,
-                    )
+                .map(|p| StageRun {
+                    name: p.name.clone(),
+                    budget_misses: p.budget_misses,
+                    cycle_p99_ms: p.cycle_time.p99_ms,
+                    budget_ms: p.budget_ms,
                 })
                 .collect(),
         }
@@ -198,8 +205,11 @@ fn print_table(runs: &[LoadedRun]) {
             "\nstages with {} hog(s) ({} rounds of hog work): budget misses, cycle p99 against the budget",
             loaded.hogs, loaded.hog_rounds
         );
-        for (name, misses, p99_ms, budget_ms) in &loaded.stages {
-            println!("  {name:<12} {misses:>5} misses, p99 {p99_ms:>6.2} ms of {budget_ms:.0} ms");
+        for stage in &loaded.stages {
+            println!(
+                "  {:<12} {:>5} misses, p99 {:>6.2} ms of {:.0} ms",
+                stage.name, stage.budget_misses, stage.cycle_p99_ms, stage.budget_ms
+            );
         }
     }
 }

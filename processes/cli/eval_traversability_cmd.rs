@@ -198,28 +198,15 @@ fn print_missed_causes(rows: &[MissionRow]) {
             .filter_map(|row| row.missed_by_cause)
         {
             missions += 1;
-            sum.rim_of_lethal_rock += causes.rim_of_lethal_rock;
-            sum.inside_of_lethal_rock += causes.inside_of_lethal_rock;
-            sum.rock_only_costly += causes.rock_only_costly;
-            sum.rock_seen_free += causes.rock_seen_free;
-            sum.rock_not_seen += causes.rock_not_seen;
-            sum.too_steep += causes.too_steep;
-            sum.near_limit_rock += causes.near_limit_rock;
-            sum.unobserved += causes.unobserved;
+            sum += causes;
         }
         if missions == 0 {
             continue;
         }
-        let missed = sum.rim_of_lethal_rock
-            + sum.inside_of_lethal_rock
-            + sum.rock_only_costly
-            + sum.rock_seen_free
-            + sum.rock_not_seen
-            + sum.too_steep;
         println!(
             "{:>5.2} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>11}",
             k,
-            missed,
+            sum.missed(),
             sum.rim_of_lethal_rock,
             sum.inside_of_lethal_rock,
             sum.rock_only_costly,

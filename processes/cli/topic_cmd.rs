@@ -62,11 +62,19 @@ impl RunChoice {
             })
         })
     }
+
+    /// The launch's namespace and its topic named `name`, or the exit code after saying why
+    /// there is no such launch or topic.
+    pub fn topic(&self, name: &str) -> Result<(Namespace, KnownTopic), ExitCode> {
+        let namespace = self.namespace()?;
+        let topic = find_topic(&namespace, name)?;
+        Ok((namespace, topic))
+    }
 }
 
 /// The topic named `name` (the `hopnav/` prefix may be left out), or the exit code after an
 /// error that lists the launch's topics.
-pub fn find_topic(namespace: &Namespace, name: &str) -> Result<KnownTopic, ExitCode> {
+fn find_topic(namespace: &Namespace, name: &str) -> Result<KnownTopic, ExitCode> {
     let full_name = if name.starts_with("hopnav/") {
         name.to_owned()
     } else {

@@ -7,7 +7,7 @@ use std::time::Duration;
 use clap::Args;
 use hopnav_ipc::live::{self, TapSample, WatchEnd, Watcher};
 
-use crate::topic_cmd::{RunChoice, find_topic, watch_failed};
+use crate::topic_cmd::{RunChoice, watch_failed};
 
 #[derive(Debug, Args)]
 pub struct EchoArgs {
@@ -21,12 +21,8 @@ pub struct EchoArgs {
 }
 
 pub fn run(args: &EchoArgs) -> ExitCode {
-    let namespace = match args.run.namespace() {
-        Ok(namespace) => namespace,
-        Err(code) => return code,
-    };
-    let topic = match find_topic(&namespace, &args.topic) {
-        Ok(topic) => topic,
+    let (namespace, topic) = match args.run.topic(&args.topic) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     let mut printer = Printer {

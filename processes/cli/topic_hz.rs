@@ -7,7 +7,7 @@ use std::time::Duration;
 use clap::Args;
 use hopnav_ipc::live::{self, ArrivalWindow, RateStats, RateTotals, TapSample, WatchEnd, Watcher};
 
-use crate::topic_cmd::{RunChoice, find_topic, watch_failed};
+use crate::topic_cmd::{RunChoice, watch_failed};
 
 #[derive(Debug, Args)]
 pub struct HzArgs {
@@ -31,12 +31,8 @@ fn positive_seconds(text: &str) -> Result<f64, String> {
 }
 
 pub fn run(args: &HzArgs) -> ExitCode {
-    let namespace = match args.run.namespace() {
-        Ok(namespace) => namespace,
-        Err(code) => return code,
-    };
-    let topic = match find_topic(&namespace, &args.topic) {
-        Ok(topic) => topic,
+    let (namespace, topic) = match args.run.topic(&args.topic) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     let name = topic.spec.name.to_string();

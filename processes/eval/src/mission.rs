@@ -185,8 +185,9 @@ pub struct MissionTruth {
     pub goal_m: Option<[f64; 2]>,
     /// The world's rocks, regenerated from the config (`None` when it cannot be).
     pub rocks: Option<Vec<RockFootprint>>,
-    /// The same rocks' footprints as the physics' collision hulls have them (what the
-    /// rover's body truly meets; their half-extent ellipses are off by the lumps, ±5 cm).
+    /// The footprints of the rocks the rover cannot climb, as the physics' collision hulls
+    /// have them (what its body truly meets; their half-extent ellipses are off by the
+    /// lumps, ±5 cm).
     pub rock_outlines: Option<Vec<RockOutline>>,
     /// The mapper's obstacle threshold, metres.
     pub traversable_height_m: f64,
@@ -234,10 +235,12 @@ impl MissionTruth {
                 })
                 .collect()
         });
+        // Only the rocks the rover cannot climb are lethal; the others need no hull.
         let rock_outlines = generated.as_ref().map(|world| {
             world
                 .rocks()
                 .iter()
+                .filter(|rock| rock.height_m > body.max_climbable_height_m)
                 .map(|rock| RockOutline {
                     outline_m: hopnav_world::footprint::rock_outline_m(rock),
                     center_m: [rock.center_m[0], rock.center_m[1]],
@@ -303,6 +306,20 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
         _ => None,
     };
     let rocks = truth.rocks.as_deref();
+    // Where the rover's camera looked, judged in the world's frame and in the map's.
+    let views = truth
+        .rover_camera
+        .map(|camera| (rover_camera_views(record, &camera), camera.half_fov_rad));
+    let in_view = match (&views, record.map.as_ref(), truth.rock_outlines.as_deref()) {
+        (Some((views, half_fov_rad)), Some(map), Some(rocks)) => {
+            let reach = Reach::InView {
+                views,
+                half_fov_rad: *half_fov_rad,
+            };
+            Some((reach, map, rocks))
+        }
+        _ => None,
+    };
     MissionEvaluation {
         straight_line_m: distance(truth.start_m, truth.goal_m),
         final_distance_to_goal_m: distance(truth.goal_m, record.last_rover_m),
@@ -319,26 +336,12 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .iter()
             .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
             .collect(),
-        blocked_area: truth.rock_outlines.as_deref().and_then(|rocks| {
-            let map = record.map.as_ref()?;
-            let camera = truth.rover_camera?;
-            let views = rover_camera_views(record, &camera);
-            let reach = Reach::InView {
-                views: &views,
-                half_fov_rad: camera.half_fov_rad,
-            };
-            Some(judge_blocked_area(truth, map, &reach, rocks, |xy| xy))
-        }),
-        blocked_area_map_frame: truth.rock_outlines.as_deref().and_then(|rocks| {
-            let map = record.map.as_ref()?;
-            let camera = truth.rover_camera?;
+        blocked_area: in_view
+            .as_ref()
+            .map(|(reach, map, rocks)| judge_blocked_area(truth, map, reach, rocks, |xy| xy)),
+        blocked_area_map_frame: in_view.as_ref().and_then(|(reach, map, rocks)| {
             let onto_truth = rover_vo_alignment(record)?;
-            let views = rover_camera_views(record, &camera);
-            let reach = Reach::InView {
-                views: &views,
-                half_fov_rad: camera.half_fov_rad,
-            };
-            Some(judge_blocked_area(truth, map, &reach, rocks, |[x, y]| {
+            Some(judge_blocked_area(truth, map, reach, rocks, |[x, y]| {
                 let p = onto_truth.apply(&Point3::new(x, y, 0.0));
                 [p.x, p.y]
             }))

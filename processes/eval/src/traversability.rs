@@ -269,6 +269,31 @@ pub struct MissedCauses {
     pub unobserved: usize,
 }
 
+impl MissedCauses {
+    /// The missed cells counted (each has one cause among the first six fields).
+    pub fn missed(&self) -> usize {
+        self.rim_of_lethal_rock
+            + self.inside_of_lethal_rock
+            + self.rock_only_costly
+            + self.rock_seen_free
+            + self.rock_not_seen
+            + self.too_steep
+    }
+}
+
+impl std::ops::AddAssign for MissedCauses {
+    fn add_assign(&mut self, other: Self) {
+        self.rim_of_lethal_rock += other.rim_of_lethal_rock;
+        self.inside_of_lethal_rock += other.inside_of_lethal_rock;
+        self.rock_only_costly += other.rock_only_costly;
+        self.rock_seen_free += other.rock_seen_free;
+        self.rock_not_seen += other.rock_not_seen;
+        self.too_steep += other.too_steep;
+        self.near_limit_rock += other.near_limit_rock;
+        self.unobserved += other.unobserved;
+    }
+}
+
 impl BlockedArea {
     /// Missed lethal cells in % of the truly lethal ones (`None` without any).
     pub fn missed_lethal_percent(&self) -> Option<f64> {
@@ -316,10 +341,10 @@ pub fn blocked_area<R: Footprint>(
             continue;
         }
         result.judged_cells += 1;
-        let truly_lethal = too_steep(cell.centre_m)
-            || blocking
-                .iter()
-                .any(|rock| rock.gap_m(cell.centre_m) < inscribed_m);
+        // The rock whose body the rover's centre here would touch (the nearest one).
+        let touched =
+            nearest_rock(&blocking, cell.centre_m).filter(|&(_, gap_m)| gap_m < inscribed_m);
+        let truly_lethal = touched.is_some() || too_steep(cell.centre_m);
         if cell.lethal {
             result.mapped_lethal_m2 += cell_m2;
         }
@@ -332,10 +357,8 @@ pub fn blocked_area<R: Footprint>(
             (false, true) => {
                 result.missed_lethal_cells += 1;
                 result.missed_by_cause.unobserved += usize::from(cell.unobserved);
-                let nearest = nearest_rock(&blocking, cell.centre_m)
-                    .filter(|&(_, gap_m)| gap_m < inscribed_m);
                 let causes = &mut result.missed_by_cause;
-                let Some((rock_index, gap_m)) = nearest else {
+                let Some((rock_index, gap_m)) = touched else {
                     causes.too_steep += 1;
                     continue;
                 };
@@ -537,6 +560,7 @@ mod tests {
             causes.rim_of_lethal_rock + causes.inside_of_lethal_rock + causes.rock_not_seen,
             result.missed_lethal_cells
         );
+        assert_eq!(causes.missed(), result.missed_lethal_cells);
         assert_eq!(causes.near_limit_rock, causes.rock_not_seen);
         assert_eq!(causes.unobserved, causes.rock_not_seen);
     }

@@ -48,14 +48,11 @@ pub fn convex_hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     };
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(points.len() + 1);
     // The lower chain left to right, then the upper chain right to left.
-    for pass in [false, true] {
+    let n = points.len();
+    for upper in [false, true] {
         let start = hull.len();
-        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if pass {
-            Box::new(points.iter().rev())
-        } else {
-            Box::new(points.iter())
-        };
-        for &p in ordered {
+        for i in 0..n {
+            let p = points[if upper { n - 1 - i } else { i }];
             while hull.len() >= start + 2
                 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
             {

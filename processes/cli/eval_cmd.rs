@@ -28,11 +28,13 @@ pub enum EvalCommand {
     /// eval_jumper_clouds.json.
     JumperClouds(crate::jumper_clouds_cmd::JumperCloudsArgs),
     /// Rover-only missions at k = 0.07, 0.10, 0.13, 0.16: over the ground the rover's camera
-    /// looked at from within 5 m, the final map's ground lethal for the rover's centre against
+    /// had in sight within 5 m (the true world rendered from its true poses, so ground hidden
+    /// behind a rock is left out), the final map's ground lethal for the rover's centre against
     /// the rocks' (blocked-area ratio), truly lethal cells mapped traversable (missed) or
-    /// uncertain (maybe too tall, at a cost), the open share (both; also over every mapped cell
-    /// within 5 m of the track) and false lethal cells, median and worst per k; a map PNG per k
-    /// with the map's classes and the true unclimbable rocks' outlines.
+    /// uncertain (maybe too tall, at a cost), the open share (both) and false lethal cells,
+    /// median and worst per k; the missed share over the field of view (hidden ground too) and
+    /// in the map's frame beside them; the missed cells by cause; a map PNG per k with the
+    /// map's classes and the true unclimbable rocks' outlines.
     Traversability(crate::eval_traversability_cmd::TraversabilityArgs),
 }
 

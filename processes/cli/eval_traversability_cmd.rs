@@ -1,6 +1,6 @@
 //! `hopnav eval traversability`: rover-only missions at k = 0.07, 0.10, 0.13 and 0.16, and
-//! how much ground each final map shuts the rover's centre out of where its camera looked
-//! within 5 m against what the rocks really block (blocked-area ratio), how many truly lethal
+//! how much ground each final map shuts the rover's centre out of where its camera had the
+//! ground in sight within 5 m (ground hidden behind a rock left out) against what the rocks really block (blocked-area ratio), how many truly lethal
 //! cells it left traversable (missed) or held uncertain (maybe too tall, at a cost), and how
 //! many it called lethal wrongly; the share left open to the rover's centre (missed or
 //! uncertain) is also given over every mapped cell within 5 m of the track; a map figure per k.
@@ -60,6 +60,11 @@ struct MissionRow {
     /// The open share over every mapped cell within 5 m of the track, whichever way the
     /// camera looked.
     open_lethal_percent_near_track: Option<f64>,
+    /// The missed share over every cell in the camera's field of view within 5 m, hidden or
+    /// not (the judge before it had a line of sight).
+    missed_lethal_percent_in_view: Option<f64>,
+    /// The blocked-area ratio over those cells.
+    blocked_area_ratio_in_view: Option<f64>,
     /// The missed share with the map carried onto the truth by the rover VO's alignment (the
     /// VO's misplacement of the whole map left out).
     missed_lethal_percent_map_frame: Option<f64>,
@@ -139,6 +144,9 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
     let near_track = evaluation
         .as_ref()
         .and_then(|evaluation| evaluation.blocked_area_near_track);
+    let in_view = evaluation
+        .as_ref()
+        .and_then(|evaluation| evaluation.blocked_area_in_view);
     let map_frame = evaluation.and_then(|evaluation| evaluation.blocked_area_map_frame);
     MissionRow {
         golombek_k: k,
@@ -151,6 +159,8 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
         uncertain_lethal_percent: blocked.and_then(|b| b.uncertain_lethal_percent()),
         open_lethal_percent: blocked.and_then(|b| b.open_lethal_percent()),
         open_lethal_percent_near_track: near_track.and_then(|b| b.open_lethal_percent()),
+        missed_lethal_percent_in_view: in_view.and_then(|b| b.missed_lethal_percent()),
+        blocked_area_ratio_in_view: in_view.and_then(|b| b.blocked_area_ratio),
         missed_lethal_percent_map_frame: map_frame.and_then(|b| b.missed_lethal_percent()),
         false_lethal_cells: blocked.map(|b| b.false_lethal_cells),
         judged_cells: blocked.map(|b| b.judged_cells),
@@ -222,7 +232,7 @@ fn print_missed_causes(rows: &[MissionRow]) {
 /// Prints the table per k and writes eval_traversability.json.
 fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> ExitCode {
     println!(
-        "\nTruly lethal ground (the rover's body touches an unclimbable rock, or too steep) where the rover's camera looked within 5 m,\nby what the final map made of it: missed = mapped traversable, uncertain = mapped maybe too tall (a cost), open = both;\nthe rocks' footprints are their collision hulls; map-frame missed: the map carried onto the truth by the rover VO's best rigid fit.\n"
+        "\nTruly lethal ground (the rover's body touches an unclimbable rock, or too steep) where the rover's camera had it in sight within 5 m,\nby what the final map made of it: missed = mapped traversable, uncertain = mapped maybe too tall (a cost), open = both;\nthe rocks' footprints are their collision hulls; in-view missed: over the camera's field of view, ground hidden behind rocks too;\nmap-frame missed: in sight, the map carried onto the truth by the rover VO's best rigid fit.\n"
     );
     println!(
         "{:>5} {:>9} {:>8} {:>10} {:>16} {:>16} {:>16} {:>16} {:>12} {:>16} {:>16}",
@@ -235,7 +245,7 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
         "uncertain %",
         "open %",
         "false cells",
-        "near track open %",
+        "in-view missed %",
         "map-frame missed %"
     );
     println!("{:>52}", "(median / worst)");
@@ -263,7 +273,7 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
             of_k.iter()
                 .filter_map(|row| row.false_lethal_cells)
                 .sum::<usize>(),
-            spread(|row| row.open_lethal_percent_near_track),
+            spread(|row| row.missed_lethal_percent_in_view),
             spread(|row| row.missed_lethal_percent_map_frame),
         );
     }

@@ -8,6 +8,7 @@
 //! - [`map_accuracy`]: obstacle cells against rocks;
 //! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
 //! - [`traversability`]: the ground the map blocks near the track against the rocks';
+//! - [`line_of_sight`]: the map cells the rover's camera had in sight (for that judge);
 //! - [`faulted_mission`]: a chaos launch's mission against the same launch without faults;
 //! - [`jumper_vo`] and [`rover_vo`]: the offline VO evaluations (`hopnav eval vo`,
 //!   `eval rover-vo`, `eval jumper-clouds`): each VO run over a rendered hop or traverse and
@@ -18,11 +19,13 @@
 //! Nothing here runs inside the process graph, and no robot ever reads it.
 #![warn(missing_docs)]
 
+pub mod blocked_area_judges;
 pub mod evaluator;
 pub mod faulted_mission;
 pub mod figure;
 pub mod full_knowledge;
 pub mod jumper_vo;
+pub mod line_of_sight;
 pub mod map_accuracy;
 pub mod mission;
 pub mod rover_vo;

@@ -9,23 +9,25 @@ use std::io::Write;
 use hopnav_config::HopnavConfig;
 use hopnav_ipc::messages::{CellClass, Robot};
 use hopnav_mapper::config::MapperConfig;
-use hopnav_metrics::trajectory::align::{Similarity, umeyama};
 use hopnav_planner::mission::MapGeometry;
-use hopnav_robot::SlopeClass;
 use hopnav_supervisor::mission_record::{MissionRecord, RecordedMap};
 use hopnav_supervisor::mission_report::MissionReport;
-use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
+use crate::blocked_area_judges::judge_blocked_area;
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
+use crate::line_of_sight::LineOfSight;
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
-use crate::traversability::{BlockedArea, CameraView, MapCell, Reach, RockOutline, blocked_area};
+use crate::traversability::{BlockedArea, RockOutline};
 use crate::true_slope::TrueSlopes;
 use crate::vo_accuracy::{VoAccuracy, accuracy};
 
 /// Rocks this much lower than the obstacle threshold still make an obstacle cell true (the
 /// clouds' height noise is a few centimetres), metres.
 const HEIGHT_TOLERANCE_M: f64 = 0.05;
+
+/// The world's texture for the truth, metres a texel: the largest the config allows.
+const COARSEST_TEXEL_M: f64 = 0.5;
 
 /// What the evaluation adds to the report's `mission` section.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -54,14 +56,18 @@ pub struct MissionEvaluation {
     #[serde(default)]
     pub vo: Vec<VoAccuracy>,
     /// The ground the map shuts the rover's centre out of, against the truth, over the cells
-    /// the rover's camera looked at from within 5 m.
+    /// the rover's camera had in sight from within 5 m (ground hidden behind a rock left out).
     #[serde(default)]
     pub blocked_area: Option<BlockedArea>,
+    /// The same over every cell in the camera's horizontal field of view within 5 m, hidden
+    /// or not (what `blocked_area` judged before the judge had a line of sight).
+    #[serde(default)]
+    pub blocked_area_in_view: Option<BlockedArea>,
     /// The same over every mapped cell within 5 m of the rover's track, whichever way its
     /// camera looked (rocks to the side seen only from afar count too).
     #[serde(default)]
     pub blocked_area_near_track: Option<BlockedArea>,
-    /// `blocked_area` in the map's own frame: the map carried onto the truth by the rigid
+    /// `blocked_area` (in sight) in the map's own frame: the map carried onto the truth by the rigid
     /// motion in the ground plane that best aligns the rover's VO with its true track, so the
     /// few centimetres by which the VO misplaces the whole map do not count as the mapper's
     /// error.
@@ -133,7 +139,7 @@ impl MissionEvaluation {
         if let Some(blocked) = &self.blocked_area {
             writeln!(
                 out,
-                "ground lethal for the rover's centre where its camera looked within 5 m: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {} (held uncertain: {}), false lethal cells: {}; unclimbable rocks there: {} lethal, {} only costly, {} seen but free, {} not seen",
+                "ground lethal for the rover's centre where its camera had it in sight within 5 m: map {:.1} m², rocks {:.1} m² (ratio {}); truly lethal cells left traversable: {} of {} (held uncertain: {}), false lethal cells: {}; unclimbable rocks there: {} lethal, {} only costly, {} seen but free, {} not seen",
                 blocked.mapped_lethal_m2,
                 blocked.true_lethal_m2,
                 blocked
@@ -202,6 +208,9 @@ pub struct MissionTruth {
     /// The ground's true slope on the mapper's grid (`None` when the world or the grid is
     /// invalid).
     pub slopes: Option<TrueSlopes>,
+    /// The world as the rover's left camera renders it, for the cells it had in sight (`None`
+    /// when the world or the camera is invalid).
+    pub line_of_sight: Option<LineOfSight>,
 }
 
 /// Where the rover's camera sits and how wide it sees, for the cells it observed.
@@ -219,8 +228,10 @@ impl MissionTruth {
     /// Reads the scenario, the rocks, the rover's body and the mapper's rules from
     /// `config`; `None` when the world or the rover's body is invalid.
     pub fn from_config(config: &HopnavConfig) -> Option<Self> {
-        let world: hopnav_world::WorldConfig =
+        let mut world: hopnav_world::WorldConfig =
             hopnav_config::parse_section(config, "world").ok()?;
+        // Nothing here reads the texture; the coarsest atlas bakes in milliseconds.
+        world.texture.texel_m = COARSEST_TEXEL_M;
         let body = hopnav_robot::RoverBody::from_config(config).ok()?;
         let mapper = hopnav_mapper::config::mapper_section(config).ok();
         let generated = hopnav_world::World::generate(&world).ok();
@@ -254,6 +265,15 @@ impl MissionTruth {
                 world.ground_height_at(x, y)
             }))
         });
+        let rig = hopnav_robot::camera::CameraRig::from_config(config).ok();
+        let line_of_sight = generated
+            .as_ref()
+            .zip(rig.as_ref())
+            .and_then(|(world, rig)| {
+                LineOfSight::new(world, &rig.rover, rig.rover_body_from_left())
+                    .inspect_err(|error| eprintln!("warning: {error}"))
+                    .ok()
+            });
         Some(Self {
             start_m: world.scenario.start_m,
             goal_m: world.scenario.goal_m,
@@ -266,17 +286,16 @@ impl MissionTruth {
             climbable_height_m: body.max_climbable_height_m,
             inscribed_m: body.inscribed_radius_m(),
             mapper,
-            rover_camera: hopnav_robot::camera::CameraRig::from_config(config)
-                .ok()
-                .map(|camera| RoverCamera {
-                    body_xy_m: [
-                        camera.rover_mount.position_m[0],
-                        camera.rover_mount.position_m[1],
-                    ],
-                    yaw_rad: camera.rover_mount.yaw_rad,
-                    half_fov_rad: 0.5 * camera.rover.hfov_rad,
-                }),
+            rover_camera: rig.map(|camera| RoverCamera {
+                body_xy_m: [
+                    camera.rover_mount.position_m[0],
+                    camera.rover_mount.position_m[1],
+                ],
+                yaw_rad: camera.rover_mount.yaw_rad,
+                half_fov_rad: 0.5 * camera.rover.hfov_rad,
+            }),
             slopes,
+            line_of_sight,
         })
     }
 
@@ -306,20 +325,7 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
         _ => None,
     };
     let rocks = truth.rocks.as_deref();
-    // Where the rover's camera looked, judged in the world's frame and in the map's.
-    let views = truth
-        .rover_camera
-        .map(|camera| (rover_camera_views(record, &camera), camera.half_fov_rad));
-    let in_view = match (&views, record.map.as_ref(), truth.rock_outlines.as_deref()) {
-        (Some((views, half_fov_rad)), Some(map), Some(rocks)) => {
-            let reach = Reach::InView {
-                views,
-                half_fov_rad: *half_fov_rad,
-            };
-            Some((reach, map, rocks))
-        }
-        _ => None,
-    };
+    let judged = judge_blocked_area(truth, record);
     MissionEvaluation {
         straight_line_m: distance(truth.start_m, truth.goal_m),
         final_distance_to_goal_m: distance(truth.goal_m, record.last_rover_m),
@@ -336,126 +342,11 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
             .iter()
             .filter_map(|vo| accuracy(vo.robot, vo.track.pairs()))
             .collect(),
-        blocked_area: in_view
-            .as_ref()
-            .map(|(reach, map, rocks)| judge_blocked_area(truth, map, reach, rocks, |xy| xy)),
-        blocked_area_map_frame: in_view.as_ref().and_then(|(reach, map, rocks)| {
-            let onto_truth = rover_vo_alignment(record)?;
-            Some(judge_blocked_area(truth, map, reach, rocks, |[x, y]| {
-                let p = onto_truth.apply(&Point3::new(x, y, 0.0));
-                [p.x, p.y]
-            }))
-        }),
-        blocked_area_near_track: truth.rock_outlines.as_deref().and_then(|rocks| {
-            let map = record.map.as_ref()?;
-            let track_m: Vec<[f64; 2]> =
-                record.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
-            Some(judge_blocked_area(
-                truth,
-                map,
-                &Reach::NearTrack(&track_m),
-                rocks,
-                |xy| xy,
-            ))
-        }),
+        blocked_area: judged.in_sight,
+        blocked_area_in_view: judged.in_view,
+        blocked_area_map_frame: judged.in_sight_map_frame,
+        blocked_area_near_track: judged.near_track,
     }
-}
-
-/// The rigid motion in the ground plane (a turn about z and a shift) that best carries the
-/// rover's VO estimates onto its true positions (`None` with fewer than three pairs or a
-/// rover that did not move).
-fn rover_vo_alignment(record: &MissionRecord) -> Option<Similarity> {
-    ground_plane_alignment(
-        record
-            .vo
-            .iter()
-            .find(|vo| vo.robot == "rover")?
-            .track
-            .pairs(),
-    )
-}
-
-/// The rigid motion in the ground plane that best carries the estimates of `(time,
-/// estimate, truth)` pairs onto their truths (heights left out).
-fn ground_plane_alignment(pairs: &[(u64, Isometry3<f64>, Isometry3<f64>)]) -> Option<Similarity> {
-    let flat =
-        |p: &Isometry3<f64>| Point3::new(p.translation.vector.x, p.translation.vector.y, 0.0);
-    let estimate: Vec<_> = pairs.iter().map(|(_, e, _)| flat(e)).collect();
-    let truth: Vec<_> = pairs.iter().map(|(_, _, g)| flat(g)).collect();
-    umeyama(&estimate, &truth, false)
-}
-
-/// The final map's lethal ground near the rover's track against the rocks', each map cell's
-/// centre carried into the world's frame by `to_world`.
-fn judge_blocked_area(
-    truth: &MissionTruth,
-    map: &RecordedMap,
-    reach: &Reach<'_>,
-    rocks: &[RockOutline],
-    to_world: impl Fn([f64; 2]) -> [f64; 2],
-) -> BlockedArea {
-    let size_m = map.cell_size_m;
-    let cells: Vec<MapCell> = map
-        .cells
-        .iter()
-        .filter(|cell| cell.class != CellClass::Unknown)
-        .map(|cell| MapCell {
-            centre_m: to_world([
-                map.origin_m.0 + (f64::from(cell.x) + 0.5) * size_m,
-                map.origin_m.1 + (f64::from(cell.y) + 0.5) * size_m,
-            ]),
-            lethal: matches!(cell.class, CellClass::Obstacle | CellClass::Lethal),
-            uncertain: cell.class == CellClass::Uncertain,
-            costly: cell.extra_cost > 0,
-            unobserved: cell.observed_by == 0,
-        })
-        .collect();
-    blocked_area(
-        &cells,
-        rocks,
-        reach,
-        size_m,
-        truth.climbable_height_m,
-        truth.inscribed_m,
-        |centre_m| {
-            truth
-                .slopes
-                .as_ref()
-                .is_some_and(|slopes| slopes.class_at_m(centre_m) == SlopeClass::TooSteep)
-        },
-    )
-}
-
-/// The rover's camera at each of its true poses the VO was paired with (one a frame while
-/// the VO ran), thinned to one per 5 cm or 2° of change.
-fn rover_camera_views(record: &MissionRecord, camera: &RoverCamera) -> Vec<CameraView> {
-    let mut views: Vec<CameraView> = Vec::new();
-    let poses = record
-        .vo
-        .iter()
-        .filter(|vo| vo.robot == "rover")
-        .flat_map(|vo| vo.track.pairs().iter().map(|(_, _, truth)| truth));
-    for world_from_body in poses {
-        let (_, _, yaw_rad) = world_from_body.rotation.euler_angles();
-        let mount = world_from_body.transform_point(&nalgebra::Point3::new(
-            camera.body_xy_m[0],
-            camera.body_xy_m[1],
-            0.0,
-        ));
-        let view = CameraView {
-            position_m: [mount.x, mount.y],
-            yaw_rad: yaw_rad + camera.yaw_rad,
-        };
-        let same = views.last().is_some_and(|last| {
-            (last.position_m[0] - view.position_m[0]).hypot(last.position_m[1] - view.position_m[1])
-                < 0.05
-                && (last.yaw_rad - view.yaw_rad).sin().abs() < 2_f64.to_radians()
-        });
-        if !same {
-            views.push(view);
-        }
-    }
-    views
 }
 
 /// The planner's path from A to B had it known from the start every rock the rover cannot
@@ -534,39 +425,4 @@ fn score_map(
         truth.traversable_height_m - HEIGHT_TOLERANCE_M,
         truth.climbable_height_m,
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_ground_plane_alignment_undoes_a_turn_and_a_shift_of_the_whole_track() {
-        // The estimate is the truth turned by 0.5° about the origin and shifted by (4, −3) cm,
-        // at a height 0.3 m off (left out).
-        let turn = nalgebra::Rotation3::from_axis_angle(
-            &nalgebra::Vector3::z_axis(),
-            0.5_f64.to_radians(),
-        );
-        let pairs: Vec<_> = (0..40u64)
-            .map(|i| {
-                let truth = Point3::new(i as f64, 0.1 * (i as f64).powi(2) / 40.0, 0.0);
-                let estimate = turn * truth + nalgebra::Vector3::new(0.04, -0.03, 0.3);
-                (
-                    i,
-                    Isometry3::translation(estimate.x, estimate.y, estimate.z),
-                    Isometry3::translation(truth.x, truth.y, truth.z),
-                )
-            })
-            .collect();
-        let onto_truth = ground_plane_alignment(&pairs).expect("a track that moved aligns");
-        for (_, estimate, truth) in &pairs {
-            let [x, y] = [estimate.translation.vector.x, estimate.translation.vector.y];
-            let carried = onto_truth.apply(&Point3::new(x, y, 0.0));
-            let error_m = (carried.x - truth.translation.vector.x)
-                .hypot(carried.y - truth.translation.vector.y);
-            assert!(error_m < 1e-9, "{error_m}");
-        }
-        assert!(ground_plane_alignment(&pairs[..2]).is_none());
-    }
 }

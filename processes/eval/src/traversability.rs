@@ -2,9 +2,10 @@
 //! really do (evaluation only).
 //!
 //! Over the cells the rover observed within [`NEAR_TRACK_M`] (mapped, not unknown, and in
-//! its camera's horizontal field of view within that range of the camera at some true pose:
-//! [`Reach::InView`]; [`Reach::NearTrack`] judges every mapped cell that near the track,
-//! whichever way the camera looked): a cell is **truly lethal** when its centre lies within the rover's inscribed radius
+//! its camera's sight within that range at some true pose: [`Reach::InSight`];
+//! [`Reach::InView`] takes every cell in the horizontal field of view, hidden or not, and
+//! [`Reach::NearTrack`] every mapped cell that near the track, whichever way the camera
+//! looked): a cell is **truly lethal** when its centre lies within the rover's inscribed radius
 //! of the footprint of a rock taller than the climb limit (the body would touch the rock
 //! whatever its heading); it is **mapped lethal** when the map makes it an obstacle or a
 //! lethal margin. The blocked-area ratio is mapped over truly lethal area (1 is perfect,
@@ -31,6 +32,8 @@
 //! ```
 
 use serde::{Deserialize, Serialize};
+
+use crate::line_of_sight::SeenCells;
 
 /// A rock's footprint as an ellipse (the world's rocks are ellipsoids), for the blocked area.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -167,6 +170,9 @@ pub enum Reach<'a> {
         /// Half the camera's horizontal field of view, radians.
         half_fov_rad: f64,
     },
+    /// Cells the camera had in sight within [`NEAR_TRACK_M`] (the true world rendered from
+    /// its true poses, [`crate::line_of_sight`]): ground hidden behind a rock is left out.
+    InSight(&'a SeenCells),
 }
 
 impl Reach<'_> {
@@ -178,6 +184,7 @@ impl Reach<'_> {
                 let (dx, dy) = (p[0] - point_m[0], p[1] - point_m[1]);
                 dx * dx + dy * dy <= reach_m2
             }),
+            Reach::InSight(seen) => seen.contains(point_m),
             Reach::InView {
                 views,
                 half_fov_rad,

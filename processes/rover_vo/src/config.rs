@@ -39,6 +39,10 @@ pub struct RoverVoConfig {
     pub min_zncc: f64,
     /// Left–right consistency limit, pixels.
     pub left_right_max_px: f64,
+    /// Largest disparity gap between the halves of a stereo patch matched on their own,
+    /// pixels: a wider gap is a depth edge inside the patch (ground behind a rock's silhouette
+    /// read a few per cent too near) and the match is refused; 0 turns the check off.
+    pub stereo_max_half_disagreement_px: f64,
     /// Assumed disparity noise σ, pixels (gives each point's depth σ).
     pub disparity_sigma_px: f64,
     /// Points farther than this are not used, metres.
@@ -79,6 +83,7 @@ impl Default for RoverVoConfig {
             stereo_patch_radius_px: 3,
             min_zncc: 0.8,
             left_right_max_px: 1.0,
+            stereo_max_half_disagreement_px: 0.0,
             disparity_sigma_px: 0.2,
             max_depth_m: 30.0,
             reprojection_threshold_px: 2.0,
@@ -136,6 +141,12 @@ impl RoverVoConfig {
         KEYS.count("stereo_patch_radius_px", self.stereo_patch_radius_px, 1, 7)?;
         KEYS.real("min_zncc", self.min_zncc, 0.0, 1.0)?;
         KEYS.real("left_right_max_px", self.left_right_max_px, 0.1, 5.0)?;
+        KEYS.real(
+            "stereo_max_half_disagreement_px",
+            self.stereo_max_half_disagreement_px,
+            0.0,
+            16.0,
+        )?;
         KEYS.real("disparity_sigma_px", self.disparity_sigma_px, 0.01, 5.0)?;
         KEYS.real("max_depth_m", self.max_depth_m, 1.0, 1000.0)?;
         KEYS.real(

@@ -20,4 +20,5 @@ pub mod pipeline;
 pub mod run;
 pub mod simulate;
 pub mod stereo;
+mod stereo_edge;
 mod stereo_patch;

@@ -205,6 +205,7 @@ impl RoverVo {
                 disparity_sigma_px: config.disparity_sigma_px,
                 max_depth_m: config.max_depth_m,
                 min_patch_std: 2.0,
+                max_half_disagreement_px: config.stereo_max_half_disagreement_px,
             },
         )?;
         let pyr = PyramidConfig {

@@ -24,6 +24,7 @@
 use hopnav_vision::image::ImageView;
 use nalgebra::Point3;
 
+use crate::stereo_edge::Bands;
 use crate::stereo_patch::{fill_band, parabola, patch_stats, zncc};
 
 /// Geometry and matching settings.
@@ -55,6 +56,10 @@ pub struct StereoParams {
     pub max_depth_m: f64,
     /// Minimum standard deviation of the patch intensity (texture), grey levels.
     pub min_patch_std: f64,
+    /// Largest disparity gap between the halves of the patch (left and right, top and
+    /// bottom), each matched on its own, pixels; a wider gap is a depth edge inside the patch
+    /// and the match is refused (`stereo_edge.rs`). 0 turns the check off.
+    pub max_half_disagreement_px: f64,
 }
 
 impl Default for StereoParams {
@@ -73,6 +78,7 @@ impl Default for StereoParams {
             disparity_sigma_px: 0.2,
             max_depth_m: 30.0,
             min_patch_std: 2.0,
+            max_half_disagreement_px: 0.0,
         }
     }
 }
@@ -103,6 +109,8 @@ pub enum NoMatch {
     LeftRightMismatch,
     /// The disparity is outside the accepted range (too far or too close).
     BadDisparity,
+    /// The halves of the patch match at different disparities: it straddles a depth edge.
+    DepthEdge,
 }
 
 /// A triangulated stereo match.
@@ -164,6 +172,10 @@ impl StereoMatcher {
         if !positive(params.max_depth_m) {
             return bad("max_depth_m", params.max_depth_m);
         }
+        if !(params.max_half_disagreement_px.is_finite() && params.max_half_disagreement_px >= 0.0)
+        {
+            return bad("max_half_disagreement_px", params.max_half_disagreement_px);
+        }
         let (width, height) = (width as usize, height as usize);
         let rows = 2 * params.patch_radius_px + 1;
         Ok(Self {
@@ -214,6 +226,7 @@ impl StereoMatcher {
         let (score, d_best) = self.forward_search(xl, d_min, d_max, std_l);
         let disparity = self.refine_disparity(score, d_best, d_min, d_max)?;
         self.left_right_check(xl, disparity, d_min)?;
+        self.depth_edge_check(xl, disparity, d_min, d_max)?;
         self.triangulate(u_px, v_px, disparity, score)
     }
 
@@ -475,6 +488,32 @@ impl StereoMatcher {
         Ok(())
     }
 
+    /// Refuses a patch whose halves match at disparities further apart than
+    /// `max_half_disagreement_px`: it straddles a depth edge.
+    fn depth_edge_check(
+        &self,
+        xl: isize,
+        disparity: f64,
+        d_min: isize,
+        d_max: isize,
+    ) -> Result<(), NoMatch> {
+        let limit_px = self.params.max_half_disagreement_px;
+        if limit_px <= 0.0 {
+            return Ok(());
+        }
+        let bands = Bands {
+            left: &self.band_left,
+            right: &self.band_right,
+            width: self.width,
+        };
+        let gap_px =
+            bands.half_disagreement_px(self.params.patch_radius_px, xl, disparity, (d_min, d_max));
+        if gap_px > limit_px {
+            return Err(NoMatch::DepthEdge);
+        }
+        Ok(())
+    }
+
     /// The point in the left camera frame for `disparity`, with its depth σ, if the depth is
     /// in range.
     fn triangulate(
@@ -505,66 +544,5 @@ impl StereoMatcher {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Value noise: hashed grid values at a 2.5-px spacing, bilinearly interpolated.
-    pub(crate) fn texture(x: f64, y: f64) -> f64 {
-        let hash = |i: i64, j: i64| {
-            let mut z = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-                ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
-            z ^= z >> 29;
-            z = z.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z ^= z >> 32;
-            (z % 1000) as f64 / 1000.0
-        };
-        let (gx, gy) = (x / 2.5, y / 2.5);
-        let (i, j) = (gx.floor(), gy.floor());
-        let (a, b) = (gx - i, gy - j);
-        let (i, j) = (i as i64, j as i64);
-        let v = hash(i, j) * (1.0 - a) * (1.0 - b)
-            + hash(i + 1, j) * a * (1.0 - b)
-            + hash(i, j + 1) * (1.0 - a) * b
-            + hash(i + 1, j + 1) * a * b;
-        40.0 + 170.0 * v
-    }
-
-    #[test]
-    fn recovers_subpixel_disparity_and_rejects_flat() {
-        let (w, h) = (160usize, 60usize);
-        for &d in &[3.3f64, 12.75, 40.4] {
-            let left: Vec<u8> = (0..w * h)
-                .map(|i| texture((i % w) as f64, (i / w) as f64) as u8)
-                .collect();
-            let right: Vec<u8> = (0..w * h)
-                .map(|i| texture((i % w) as f64 + d, (i / w) as f64) as u8)
-                .collect();
-            let params = StereoParams {
-                fx_px: 100.0,
-                fy_px: 100.0,
-                cx_px: 80.0,
-                cy_px: 30.0,
-                ..StereoParams::default()
-            };
-            let mut m = StereoMatcher::new(w as u32, h as u32, params).unwrap();
-            let l = ImageView::packed(&left, w, h).unwrap();
-            let r = ImageView::packed(&right, w, h).unwrap();
-            let p = m.match_point(&l, &r, 120.3, 30.6).unwrap();
-            assert!(
-                (p.disparity_px - d).abs() < 0.15,
-                "d {d} got {}",
-                p.disparity_px
-            );
-            assert!((p.point_camera_m.z - 20.0 / d).abs() < 0.1 * 20.0 / d);
-            let flat = vec![100u8; w * h];
-            let f = ImageView::packed(&flat, w, h).unwrap();
-            assert_eq!(m.match_point(&f, &f, 120.0, 30.0), Err(NoMatch::LowTexture));
-            // A right view of unrelated content: no consistent match.
-            let other: Vec<u8> = (0..w * h)
-                .map(|i| texture((i / w) as f64 * 3.0, (i % w) as f64 * 1.7) as u8)
-                .collect();
-            let o = ImageView::packed(&other, w, h).unwrap();
-            assert!(m.match_point(&l, &o, 120.0, 30.0).is_err());
-        }
-    }
-}
+#[path = "stereo_tests.rs"]
+mod tests;

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{drive, flat_world, physics};
+use common::{drive, flat_world, physics, run};
 use hopnav_ipc::validate::{Message, Rejection};
 use hopnav_physics::wire::{self, ResumeSampleError};
 use hopnav_physics::{FrameInputs, FrameOutputs, HopState, PhysicsConfig, PhysicsSim, ResumeError};
@@ -168,9 +168,7 @@ fn a_jumper_resumed_while_landing_on_flat_ground_comes_to_rest_within_a_centimet
     let world = flat_world(48.0, 12.0, &[]);
     let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
     let mut reference = PhysicsSim::new(&world, &cfg, 3).unwrap();
-    let outputs: Vec<_> = (0..100)
-        .map(|_| reference.step_frame(&FrameInputs::default()))
-        .collect();
+    let outputs = run(&mut reference, 100, FrameInputs::default());
     let state_at = |k: usize| outputs[k].jumper_status.state;
     let first_landing = (0..100)
         .find(|&k| state_at(k) == HopState::Landing)

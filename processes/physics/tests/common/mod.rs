@@ -32,6 +32,11 @@ pub fn run(sim: &mut PhysicsSim, frames: usize, inputs: FrameInputs) -> Vec<Fram
     (0..frames).map(|_| sim.step_frame(&inputs)).collect()
 }
 
+/// The largest `value` over `outputs` (`f64::MIN` when there are none).
+pub fn max_over(outputs: &[FrameOutputs], value: impl Fn(&FrameOutputs) -> f64) -> f64 {
+    outputs.iter().map(value).fold(f64::MIN, f64::max)
+}
+
 /// Inputs that only drive the rover.
 pub fn drive(waypoint_xy_m: [f64; 2], speed_mps: f64) -> FrameInputs {
     FrameInputs {

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{flat_world, max_over, physics, run};
+use common::{flat_world, hop_scene, max_over, physics, run};
 use hopnav_physics::config::AltimeterConfig;
 use hopnav_physics::sensors::Altimeter;
 use hopnav_physics::{FrameInputs, PhysicsSim};
@@ -40,8 +40,7 @@ fn altimeter_noise_matches_sigma() {
 
 #[test]
 fn altimeter_in_the_sim_tracks_the_jumper() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut sim = PhysicsSim::new(&world, &cfg, 4).unwrap();
     let outs = run(&mut sim, 150, FrameInputs::default());
     let errs: Vec<f64> = outs

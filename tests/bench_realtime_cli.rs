@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::hopnav;
+use common::{hopnav, stdout_of_success};
 
 #[test]
 fn a_duration_out_of_range_is_exit_2_naming_the_option() {
@@ -28,23 +28,21 @@ fn a_duration_out_of_range_is_exit_2_naming_the_option() {
 fn a_short_run_reports_the_unloaded_and_the_loaded_launch() {
     let dir = std::env::temp_dir().join(format!("hopnav-bench-rt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
-    let output = hopnav()
-        .current_dir(&dir)
-        .args([
-            "bench",
-            "realtime",
-            "--duration",
-            "2",
-            "--hog",
-            "1",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .expect("run");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stdout}\n{stderr}");
+    let stdout = stdout_of_success(
+        hopnav()
+            .current_dir(&dir)
+            .args([
+                "bench",
+                "realtime",
+                "--duration",
+                "2",
+                "--hog",
+                "1",
+                "--out",
+            ])
+            .arg(&dir),
+        "hopnav bench realtime",
+    );
     assert!(
         stdout.contains("e2e p99 ms") && stdout.contains("loaded / unloaded"),
         "{stdout}"

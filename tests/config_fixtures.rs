@@ -60,16 +60,8 @@ fn valid_configs_run() {
     let out = out_dir("good-config");
     for (index, file) in fixtures("valid").into_iter().enumerate() {
         let run = run_id(&format!("good{index}"));
-        let output = launch_command(&out, &run, &["--lockstep", "--frames", "3"])
-            .arg(&file)
-            .output()
-            .expect("run");
-        assert!(
-            output.status.success(),
-            "{}: {}",
-            file.display(),
-            String::from_utf8_lossy(&output.stderr)
-        );
+        let mut command = launch_command(&out, &run, &["--lockstep", "--frames", "3"]);
+        stdout_of_success(command.arg(&file), &file.display().to_string());
     }
 }
 
@@ -89,14 +81,7 @@ fn shipped_scenarios_pass_launch_validation() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("config/scenarios");
     for name in ["default", "rocky", "fig6"] {
         let run = run_id(&format!("scenario-{name}"));
-        let output = launch_command(&out, &run, &["--lockstep", "--frames", "2"])
-            .arg(dir.join(format!("{name}.toml")))
-            .output()
-            .expect("run");
-        assert!(
-            output.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&output.stderr)
-        );
+        let mut command = launch_command(&out, &run, &["--lockstep", "--frames", "2"]);
+        stdout_of_success(command.arg(dir.join(format!("{name}.toml"))), name);
     }
 }

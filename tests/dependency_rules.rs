@@ -3,9 +3,13 @@
 //! crate that binds it to topics; no process's crates import another process's; and the
 //! evaluation sits outside the process graph, reading algorithms, never a node.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
+
+use common::stdout_of_success;
 
 /// The layer a workspace crate belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,24 +100,20 @@ fn may_use_iceoryx2_directly(layer: Layer, name: &str) -> bool {
 /// Every workspace member's dependencies (not dev-dependencies), from `cargo metadata`.
 fn workspace_dependencies() -> BTreeMap<String, Vec<String>> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    let output = Command::new(cargo)
-        .args([
-            "metadata",
-            "--format-version",
-            "1",
-            "--no-deps",
-            "--offline",
-        ])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("cargo metadata runs");
-    assert!(
-        output.status.success(),
-        "cargo metadata failed: {}",
-        String::from_utf8_lossy(&output.stderr)
+    let stdout = stdout_of_success(
+        Command::new(cargo)
+            .args([
+                "metadata",
+                "--format-version",
+                "1",
+                "--no-deps",
+                "--offline",
+            ])
+            .current_dir(env!("CARGO_MANIFEST_DIR")),
+        "cargo metadata",
     );
     let metadata: serde_json::Value =
-        serde_json::from_slice(&output.stdout).expect("cargo metadata prints JSON");
+        serde_json::from_str(&stdout).expect("cargo metadata prints JSON");
     let members: Vec<&str> = metadata["workspace_members"]
         .as_array()
         .expect("workspace_members")

@@ -5,7 +5,7 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Child, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use common::*;
@@ -44,9 +44,15 @@ fn run_dirs(out: &Path) -> Vec<String> {
         .unwrap_or_default()
 }
 
-/// Waits for the first launch's children, interrupts `command`, and checks the common part:
-/// exit code 130, no child left, no later launch started, no shared memory left.
-fn interrupt_during_first_launch(mut command: Child, out: &Path) -> String {
+/// Starts `command` with its output piped, waits for the first launch's children, interrupts
+/// it, and checks the common part: exit code 130, no child left, no later launch started, no
+/// shared memory left.
+fn interrupt_during_first_launch(command: &mut Command, out: &Path) -> String {
+    let mut command = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
     let out_text = out.display().to_string();
     assert!(
         // The command itself (its --out) and at least two children (their --config).
@@ -74,33 +80,27 @@ fn interrupt_during_first_launch(mut command: Child, out: &Path) -> String {
     );
     let runs = run_dirs(out);
     assert_eq!(runs.len(), 1, "a later launch started: {runs:?}\n{stderr}");
-    assert!(
-        leftover_files(&runs[0]).is_empty(),
-        "{:?}",
-        leftover_files(&runs[0])
-    );
+    assert_no_leftover_files(&runs[0]);
     stderr
 }
 
 #[test]
 fn sigint_stops_the_whole_chaos_run_and_keeps_what_finished() {
     let out = out_dir("chaos-sigint");
-    let command = hopnav()
-        .args([
-            "chaos",
-            &probe_config(),
-            "--runs",
-            "5",
-            "--frames",
-            "1000000",
-        ])
-        .args(["--kinds", "delay", "--faults-per-run", "1", "--out"])
-        .arg(&out)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn chaos");
-    let stderr = interrupt_during_first_launch(command, &out);
+    let stderr = interrupt_during_first_launch(
+        hopnav()
+            .args([
+                "chaos",
+                &probe_config(),
+                "--runs",
+                "5",
+                "--frames",
+                "1000000",
+            ])
+            .args(["--kinds", "delay", "--faults-per-run", "1", "--out"])
+            .arg(&out),
+        &out,
+    );
     assert!(
         stderr.contains("interrupted: stopped after 1 of 5 runs"),
         "{stderr}"
@@ -119,14 +119,12 @@ fn sigint_stops_the_whole_chaos_run_and_keeps_what_finished() {
 #[test]
 fn sigint_stops_the_whole_comparison_and_keeps_what_finished() {
     let out = out_dir("compare-sigint");
-    let command = hopnav()
-        .args(["compare", "--seeds", "3", "--frames", "1000000", "--out"])
-        .arg(&out)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn compare");
-    let stderr = interrupt_during_first_launch(command, &out);
+    let stderr = interrupt_during_first_launch(
+        hopnav()
+            .args(["compare", "--seeds", "3", "--frames", "1000000", "--out"])
+            .arg(&out),
+        &out,
+    );
     // The mission graph may still be starting (then the launch has no row) or running.
     assert!(stderr.contains("interrupted: stopped after"), "{stderr}");
     assert!(stderr.contains("of 6 launches"), "{stderr}");

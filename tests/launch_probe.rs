@@ -51,7 +51,7 @@ fn lockstep_probe_launch_completes_every_frame_and_reports() {
         stderr.contains("verified 60 probe images, 0 corrupt, 0 missing"),
         "{stderr}"
     );
-    assert!(leftover_files(&run).is_empty());
+    assert_no_leftover_files(&run);
     assert!(out.join(&run).join("config.toml").exists());
 }
 

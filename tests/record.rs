@@ -16,14 +16,8 @@ fn lockstep_launch_records_every_frame_of_every_topic() {
     let out = out_dir("record");
     let run = run_id("record");
     let file = out.join("mission.mcap");
-    let output = launch_command(&out, &run, &["--lockstep", "--frames", &FRAMES.to_string()])
-        .arg("--record")
-        .arg(&file)
-        .output()
-        .expect("run hopnav");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stdout}\n{stderr}");
+    let mut command = launch_command(&out, &run, &["--lockstep", "--frames", &FRAMES.to_string()]);
+    let stdout = stdout_of_success(command.arg("--record").arg(&file), "hopnav launch");
     assert!(
         stdout.contains("record: ") && stdout.contains("drops 0 "),
         "{stdout}"

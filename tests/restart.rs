@@ -13,6 +13,11 @@ fn spawn_lockstep(out: &Path, run: &str, config: &str, frames: &str) -> Child {
     spawn_launch(out, run, &[config, "--lockstep", "--frames", frames])
 }
 
+/// The probe graph with one restart allowed and a short watchdog.
+fn strict_supervision() -> String {
+    fixture_config("valid/strict_supervision.toml")
+}
+
 /// The pids of `run`'s probe sinks that serve (a prepared standby does not).
 fn serving_sinks(run: &str) -> Vec<i32> {
     serving_pids_with_args(&["run", "probe_sink", run])
@@ -61,8 +66,7 @@ fn killed_child_is_restarted_and_the_launch_completes() {
 #[test]
 fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
     let (out, run) = out_and_run("crash-loop");
-    let config = fixture_config("valid/strict_supervision.toml");
-    let mut child = spawn_lockstep(&out, &run, &config, "100000");
+    let mut child = spawn_lockstep(&out, &run, &strict_supervision(), "100000");
     for _ in 0..2 {
         let victim = the_serving_sink(&run, Duration::from_millis(200));
         signal(victim, libc::SIGKILL);
@@ -85,8 +89,7 @@ fn crash_loop_exceeding_restart_intensity_stops_the_launch_without_orphans() {
 #[test]
 fn a_hung_child_is_detected_by_the_watchdog_killed_and_restarted() {
     let (out, run) = out_and_run("hang");
-    let config = fixture_config("valid/strict_supervision.toml");
-    let mut child = spawn_lockstep(&out, &run, &config, "3000");
+    let mut child = spawn_lockstep(&out, &run, &strict_supervision(), "3000");
     let frozen = the_serving_sink(&run, Duration::from_millis(200));
     signal(frozen, libc::SIGSTOP); // alive but silent: a hang
     let status = wait_with_limit(&mut child, Duration::from_secs(300)).expect("launch finished");

@@ -170,11 +170,7 @@ fn topic_list_and_hz_see_a_running_lockstep_launch() {
     assert!(status.success(), "{rest}");
     assert!(rest.contains(&format!("launch {run} ended")), "{rest}");
     assert_eq!(report(&out, &run)["leftover_files"], 0);
-    assert!(
-        leftover_files(&run).is_empty(),
-        "{:?}",
-        leftover_files(&run)
-    );
+    assert_no_leftover_files(&run);
 }
 
 #[test]

@@ -32,7 +32,7 @@ fn export(out: &Path, name: &str, frames: &str) -> std::path::PathBuf {
         assert_eq!(process["rejected_samples"], 0, "{name}");
         assert_eq!(process["restarts"], 0, "{name}");
     }
-    assert!(leftover_files(&run).is_empty());
+    assert_no_leftover_files(&run);
     dataset
 }
 

@@ -156,6 +156,14 @@ mod tests {
         load(Some(text)).expect_err("must be rejected").to_string()
     }
 
+    /// `text` is rejected with an error that names every one of `parts`.
+    fn assert_rejected_naming(text: &str, parts: &[&str]) {
+        let message = error_of(text);
+        for part in parts {
+            assert!(message.contains(part), "{part}: {message}");
+        }
+    }
+
     #[test]
     fn defaults_are_valid() {
         let config = load(None).expect("defaults");
@@ -165,31 +173,28 @@ mod tests {
 
     #[test]
     fn out_of_range_values_name_key_and_range() {
-        let message = error_of("[run]\nframe_rate_hz = 0.0\n");
-        assert!(message.contains("run.frame_rate_hz"), "{message}");
-        assert!(message.contains("[0.1, 1000]"), "{message}");
-        let message = error_of("[processes.probe_sink]\nbudget_ms = -3.0\n");
-        assert!(
-            message.contains("processes.probe_sink.budget_ms"),
-            "{message}"
+        assert_rejected_naming(
+            "[run]\nframe_rate_hz = 0.0\n",
+            &["run.frame_rate_hz", "[0.1, 1000]"],
         );
-        let message = error_of("[restart]\nbackoff_initial_ms = 500\nbackoff_max_ms = 100\n");
-        assert!(message.contains("restart.backoff_max_ms"), "{message}");
-        let message = error_of("[run]\nframe_rate_hz = nan\n");
-        assert!(message.contains("finite"), "{message}");
+        assert_rejected_naming(
+            "[processes.probe_sink]\nbudget_ms = -3.0\n",
+            &["processes.probe_sink.budget_ms"],
+        );
+        assert_rejected_naming(
+            "[restart]\nbackoff_initial_ms = 500\nbackoff_max_ms = 100\n",
+            &["restart.backoff_max_ms"],
+        );
+        assert_rejected_naming("[run]\nframe_rate_hz = nan\n", &["finite"]);
     }
 
     #[test]
     fn unknown_keys_and_wrong_types_name_the_key() {
-        let message = error_of("[run]\nframe_rat_hz = 5.0\n");
-        assert!(message.contains("run"), "{message}");
-        assert!(message.contains("frame_rat_hz"), "{message}");
-        let message = error_of("[run]\nframes = \"many\"\n");
-        assert!(message.contains("run.frames"), "{message}");
-        let message = error_of("[processes.probe_sink]\nrestart = \"sometimes\"\n");
-        assert!(
-            message.contains("processes.probe_sink.restart"),
-            "{message}"
+        assert_rejected_naming("[run]\nframe_rat_hz = 5.0\n", &["run", "frame_rat_hz"]);
+        assert_rejected_naming("[run]\nframes = \"many\"\n", &["run.frames"]);
+        assert_rejected_naming(
+            "[processes.probe_sink]\nrestart = \"sometimes\"\n",
+            &["processes.probe_sink.restart"],
         );
     }
 

@@ -1,11 +1,13 @@
 //! Round trips through real iceoryx2 shared memory, each test in its own namespace.
 
+use hopnav_ipc::IpcService;
 use hopnav_ipc::messages::{
     CameraIntrinsics, Heartbeat, ImageHeader, PixelFormat, ProcessState, Robot,
 };
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::topics::{self, TopicSpec};
 use hopnav_ipc::transport::{Publisher, SendError, SlicePublisher, SliceSubscriber, Subscriber};
+use iceoryx2::node::Node;
 
 /// A namespace of its own that removes its files when the test ends.
 struct TestNamespace(Namespace);
@@ -23,8 +25,29 @@ impl std::ops::Deref for TestNamespace {
     }
 }
 
-fn namespace(test: &str) -> TestNamespace {
-    TestNamespace(Namespace::new(&format!("t{}-{test}", std::process::id())).expect("namespace"))
+/// A namespace of the test's own and a node in it (declare the namespace first, so the node
+/// goes before the namespace removes its files).
+fn namespace_and_node(test: &str) -> (TestNamespace, Node<IpcService>) {
+    let namespace = TestNamespace(
+        Namespace::new(&format!("t{}-{test}", std::process::id())).expect("namespace"),
+    );
+    let node = namespace.create_node("test").expect("node");
+    (namespace, node)
+}
+
+type HeartbeatSub = Subscriber<Heartbeat>;
+type HeartbeatPub = Publisher<Heartbeat>;
+
+/// A heartbeat subscriber and publisher on `node`, subscriber first.
+fn heartbeat_ports(node: &Node<IpcService>) -> (HeartbeatSub, HeartbeatPub) {
+    let subscriber = Subscriber::open(node, &topics::HEARTBEAT).expect("sub");
+    let publisher = Publisher::open(node, &topics::HEARTBEAT).expect("pub");
+    (subscriber, publisher)
+}
+
+/// Every heartbeat waiting for `subscriber`.
+fn receive_all(subscriber: &Subscriber<Heartbeat>) -> Vec<Heartbeat> {
+    std::iter::from_fn(|| subscriber.receive().expect("receive")).collect()
 }
 
 #[path = "support/image_header.rs"]
@@ -34,10 +57,8 @@ use image_header_fixture::image_header;
 
 #[test]
 fn fixed_messages_arrive_stamped_in_order() {
-    let namespace = namespace("fixed");
-    let node = namespace.create_node("test").expect("node");
-    let subscriber = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("sub");
-    let mut publisher = Publisher::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("pub");
+    let (_namespace, node) = namespace_and_node("fixed");
+    let (subscriber, mut publisher) = heartbeat_ports(&node);
     for frame in 0..3 {
         publisher
             .send_with(|heartbeat| {
@@ -46,7 +67,7 @@ fn fixed_messages_arrive_stamped_in_order() {
             })
             .expect("send");
     }
-    let received: Vec<_> = std::iter::from_fn(|| subscriber.receive().expect("receive")).collect();
+    let received = receive_all(&subscriber);
     assert_eq!(received.len(), 3);
     for (index, heartbeat) in received.iter().enumerate() {
         assert_eq!(heartbeat.stamp.frame_index, index as u64);
@@ -58,17 +79,15 @@ fn fixed_messages_arrive_stamped_in_order() {
 
 #[test]
 fn corrupt_and_repeated_samples_are_rejected_and_counted() {
-    let namespace = namespace("corrupt");
-    let node = namespace.create_node("test").expect("node");
-    let subscriber = Subscriber::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("sub");
-    let mut publisher = Publisher::<Heartbeat>::open(&node, &topics::HEARTBEAT).expect("pub");
+    let (_namespace, node) = namespace_and_node("corrupt");
+    let (subscriber, mut publisher) = heartbeat_ports(&node);
     publisher
         .send_with(|heartbeat| heartbeat.state = 77)
         .expect("send");
     publisher.send_with(|_| {}).expect("send");
     publisher.continue_sequence_after(0); // replays sequence 1
     publisher.send_with(|_| {}).expect("send");
-    let received: Vec<_> = std::iter::from_fn(|| subscriber.receive().expect("receive")).collect();
+    let received = receive_all(&subscriber);
     assert_eq!(received.len(), 1, "only the valid, fresh sample passes");
     assert_eq!(subscriber.rejected().invalid, 1);
     assert_eq!(subscriber.rejected().stale, 1);
@@ -76,8 +95,7 @@ fn corrupt_and_repeated_samples_are_rejected_and_counted() {
 
 #[test]
 fn image_slices_are_drawn_in_place_and_validated() {
-    let namespace = namespace("slice");
-    let node = namespace.create_node("test").expect("node");
+    let (_namespace, node) = namespace_and_node("slice");
     let spec = TopicSpec {
         subscriber_buffer: 4,
         ..topics::PROBE_IMAGE
@@ -120,8 +138,7 @@ fn image_slices_are_drawn_in_place_and_validated() {
 
 #[test]
 fn oversized_and_refused_fills_are_clear_errors() {
-    let namespace = namespace("oversize");
-    let node = namespace.create_node("test").expect("node");
+    let (_namespace, node) = namespace_and_node("oversize");
     let mut publisher =
         SlicePublisher::<ImageHeader>::open(&node, &topics::PROBE_IMAGE, 16).expect("pub");
     let error = publisher
@@ -143,8 +160,7 @@ fn oversized_and_refused_fills_are_clear_errors() {
 
 #[test]
 fn late_subscriber_recovers_last_value_from_history() {
-    let namespace = namespace("history");
-    let node = namespace.create_node("test").expect("node");
+    let (_namespace, node) = namespace_and_node("history");
     let spec = topics::step("history_probe");
     let mut publisher =
         Publisher::<hopnav_ipc::messages::FrameTick>::open(&node, &spec).expect("pub");
@@ -167,8 +183,7 @@ fn late_subscriber_recovers_last_value_from_history() {
 
 #[test]
 fn exhausted_shared_memory_is_a_clear_error_not_a_crash() {
-    let namespace = namespace("exhausted");
-    let node = namespace.create_node("test").expect("node");
+    let (_namespace, node) = namespace_and_node("exhausted");
     let mut publisher =
         SlicePublisher::<ImageHeader>::open(&node, &topics::PROBE_IMAGE, 64).expect("pub");
     let subscriber =

@@ -205,39 +205,47 @@ mod tests {
         assert!(!paths_only.success_at_least_rover_only);
     }
 
+    /// `text` is rejected with an error that contains every one of `parts`.
+    fn assert_rejected_naming(text: &str, parts: &[&str]) {
+        let error = parse(text).expect_err("must be rejected");
+        for part in parts {
+            assert!(error.contains(part), "{part}: {error}");
+        }
+    }
+
     #[test]
     fn unknown_tables_and_keys_are_named() {
-        let error = parse("[paths]\nshorter_by_percent = 15\n").expect_err("unknown key");
-        assert!(
-            error.contains("unknown key paths.shorter_by_percent"),
-            "{error}"
+        assert_rejected_naming(
+            "[paths]\nshorter_by_percent = 15\n",
+            &[
+                "unknown key paths.shorter_by_percent",
+                "cooperative_shorter_by_percent",
+            ],
         );
-        assert!(error.contains("cooperative_shorter_by_percent"), "{error}");
-        let error = parse("[path]\ncooperative_shorter_by_percent = 15\n").expect_err("table");
-        assert!(error.contains("unknown table [path]"), "{error}");
-        let error = parse("paths = 15\n").expect_err("not a table");
-        assert!(error.contains("must be a table"), "{error}");
+        assert_rejected_naming(
+            "[path]\ncooperative_shorter_by_percent = 15\n",
+            &["unknown table [path]"],
+        );
+        assert_rejected_naming("paths = 15\n", &["must be a table"]);
     }
 
     #[test]
     fn wrong_types_and_ranges_are_named() {
-        let error = parse("[replans]\nfewer_by_percent = \"20\"\n").expect_err("string");
-        assert!(
-            error.contains("replans.fewer_by_percent must be a number, found string"),
-            "{error}"
+        assert_rejected_naming(
+            "[replans]\nfewer_by_percent = \"20\"\n",
+            &["replans.fewer_by_percent must be a number, found string"],
         );
-        let error = parse("[success]\ncooperative_at_least_rover_only = 1\n").expect_err("int");
-        assert!(error.contains("must be true or false"), "{error}");
-        let error = parse("[paths]\ncooperative_shorter_by_percent = 100\n").expect_err("100");
-        assert!(error.contains("below 100"), "{error}");
-        let error = parse("[replans]\nfewer_by_percent = -5\n").expect_err("negative");
-        assert!(error.contains("at least 0"), "{error}");
-        assert!(
-            parse("[paths\n")
-                .expect_err("syntax")
-                .contains("not valid TOML")
+        assert_rejected_naming(
+            "[success]\ncooperative_at_least_rover_only = 1\n",
+            &["must be true or false"],
         );
-        assert!(parse("").expect_err("empty").contains("sets no target"));
+        assert_rejected_naming(
+            "[paths]\ncooperative_shorter_by_percent = 100\n",
+            &["below 100"],
+        );
+        assert_rejected_naming("[replans]\nfewer_by_percent = -5\n", &["at least 0"]);
+        assert_rejected_naming("[paths\n", &["not valid TOML"]);
+        assert_rejected_naming("", &["sets no target"]);
     }
 
     #[test]

@@ -83,6 +83,27 @@ pub fn assert_nothing_left(report: &serde_json::Value, run_id: &str) {
     );
 }
 
+/// Runs `command` to its end and returns its standard output; unless it succeeded, panics
+/// naming `what` with both outputs.
+pub fn stdout_of_success(command: &mut Command, what: &str) -> String {
+    let output = command
+        .output()
+        .unwrap_or_else(|error| panic!("{what}: cannot run: {error}"));
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{what}: {stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
+/// The run left no shared-memory files; panics listing them.
+pub fn assert_no_leftover_files(run_id: &str) {
+    let files = leftover_files(run_id);
+    assert!(files.is_empty(), "{files:?}");
+}
+
 /// The parsed report of a run.
 pub fn report(out: &Path, run_id: &str) -> serde_json::Value {
     let path = out.join(run_id).join("report.json");

@@ -2,7 +2,7 @@
 
 use hopnav_eval::jumper_vo::evaluate;
 use hopnav_jumper_vo::config::{JumperVoConfig, ScaleMethod};
-use hopnav_jumper_vo::output::{FrameInput, VoStatus};
+use hopnav_jumper_vo::output::{FrameInput, VoOutput, VoStatus};
 use hopnav_jumper_vo::pipeline::JumperVo;
 use hopnav_jumper_vo::run::run_hop;
 use hopnav_jumper_vo::simulate::{SimConfig, SimulatedHop, simulate_hop};
@@ -20,6 +20,14 @@ fn small_sim(frames: usize, blackout: Vec<usize>) -> SimulatedHop {
 }
 
 /// A VO with the simulation's robot model, placed at the hop's first pose (returned too).
+/// The index of the first output that says the jumper landed.
+fn first_landed_at(outputs: &[VoOutput]) -> usize {
+    outputs
+        .iter()
+        .position(|o| o.status == VoStatus::Landed)
+        .expect("never landed")
+}
+
 fn vo_at_launch(sim: &SimulatedHop) -> (JumperVo, Isometry3<f64>) {
     let config = sim.robot_config(&JumperVoConfig::default());
     let launch = sim.truth_world_from_body[0];
@@ -128,11 +136,7 @@ fn black_frames_mid_flight_do_not_diverge() {
 fn breakdown_at_touchdown_lands_and_holds() {
     let sim = small_sim(52, (45..52).collect());
     let run = run_hop(&sim, &JumperVoConfig::default()).unwrap();
-    let first_landed = run
-        .outputs
-        .iter()
-        .position(|o| o.status == VoStatus::Landed)
-        .expect("a landing");
+    let first_landed = first_landed_at(&run.outputs);
     assert!(
         (46..=48).contains(&first_landed),
         "landed at {first_landed}"
@@ -307,10 +311,7 @@ fn a_launch_that_never_leaves_the_ground_lands_where_it_started() {
             })
         })
         .collect();
-    let first_landed = outputs
-        .iter()
-        .position(|o| o.status == VoStatus::Landed)
-        .expect("never landed");
+    let first_landed = first_landed_at(&outputs);
     assert!(first_landed <= 6, "landed only at frame {first_landed}");
     // Until then the commanded arc is flown; from then on the body rests at the launch.
     for o in &outputs[first_landed..] {
@@ -343,10 +344,7 @@ fn a_rocking_launch_that_never_climbs_is_told_by_the_altimeter() {
             })
         })
         .collect();
-    let first_landed = outputs
-        .iter()
-        .position(|o| o.status == VoStatus::Landed)
-        .expect("never landed");
+    let first_landed = first_landed_at(&outputs);
     assert!(first_landed <= 12, "landed only at frame {first_landed}");
     let last = outputs[outputs.len() - 1]
         .world_from_body

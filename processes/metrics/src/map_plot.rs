@@ -8,7 +8,7 @@ use std::path::Path;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use crate::plot::{PlotError, register_font};
+use crate::plot::{PlotError, draw_legend, finite_points, register_font};
 
 /// Who observed a cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -174,14 +174,7 @@ fn draw_map<DB: DrawingBackend>(
             .label(label)
             .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, colour.filled()));
     }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 0.85)
 }
 
 /// The mapped cells, coloured by class and observer, with the legend of the colours.
@@ -219,12 +212,7 @@ fn draw_tracks<DB: DrawingBackend>(
 ) -> Result<(), String> {
     for track in tracks {
         let colour = RGBColor(track.rgb.0, track.rgb.1, track.rgb.2);
-        let points: Vec<(f64, f64)> = track
-            .points_m
-            .iter()
-            .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .collect();
+        let points = finite_points(&track.points_m);
         let series = if track.markers_only {
             chart
                 .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
 /// One line of a plot.
@@ -123,6 +124,31 @@ fn draw_into<DB: DrawingBackend>(
     draw(open().into_drawing_area(), plot).map_err(error)
 }
 
+/// The points of `points` with both coordinates finite (what a chart can place).
+pub(crate) fn finite_points(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .collect()
+}
+
+/// Draws the legend of `chart`'s labelled series at `position`, framed in black on white of
+/// `opacity` (0–1).
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    opacity: f64,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(opacity))
+        .position(position)
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 /// Draws `plot` on any plotters drawing area (SVG, PNG, or a panel of a larger figure).
 pub fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
@@ -149,12 +175,7 @@ pub fn draw<DB: DrawingBackend>(
                 .map_err(|e| e.to_string())?;
             for (index, series) in plot.series.iter().enumerate() {
                 let color = PALETTE[index % PALETTE.len()];
-                let points: Vec<(f64, f64)> = series
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                    .collect();
+                let points = finite_points(&series.points);
                 chart
                     .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
                     .map_err(|e| e.to_string())?
@@ -172,13 +193,7 @@ pub fn draw<DB: DrawingBackend>(
                         .map_err(|e| e.to_string())?;
                 }
             }
-            chart
-                .configure_series_labels()
-                .border_style(BLACK)
-                .background_style(WHITE.mix(0.8))
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 0.8)?;
         }};
     }
     match (plot.x_scale, plot.y_scale) {

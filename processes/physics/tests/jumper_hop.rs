@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{flat_world, physics, run};
+use common::{flat_world, hop_scene, physics, run};
 use hopnav_physics::{FrameInputs, HopRequest, HopState, PhysicsSim};
 
 /// Analytic Table 1 hop: 10 m/s at 60° under 3.711 m/s².
@@ -11,8 +11,7 @@ const APEX_M: f64 = 10.10;
 
 #[test]
 fn table1_hop_matches_analytic_range_and_apex() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut sim = PhysicsSim::new(&world, &cfg, 1).unwrap();
     let outs = run(&mut sim, 120, FrameInputs::default());
     let hop = outs.last().unwrap().jumper_status.current_hop.unwrap();
@@ -109,8 +108,7 @@ fn request_beyond_limits_is_clamped() {
 
 #[test]
 fn request_during_flight_waits_for_settle() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut sim = PhysicsSim::new(&world, &cfg, 1).unwrap();
     let _ = sim.step_frame(&FrameInputs::default());
     let out = sim.step_frame(&FrameInputs {

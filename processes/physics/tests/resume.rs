@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{drive, flat_world, physics};
+use common::{drive, hop_scene, run};
 use hopnav_ipc::validate::{Message, Rejection};
 use hopnav_physics::wire::{self, ResumeSampleError};
 use hopnav_physics::{FrameInputs, FrameOutputs, HopState, PhysicsConfig, PhysicsSim, ResumeError};
@@ -52,8 +52,7 @@ fn step_both(
 
 #[test]
 fn a_jumper_resumed_mid_flight_flies_on_and_time_continues() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut original = PhysicsSim::new(&world, &cfg, 3).unwrap();
     let inputs = |_| drive([10.0, -2.5], 0.5);
     for k in 0..20 {
@@ -165,12 +164,9 @@ fn a_resumed_mission_on_the_default_world_continues_with_its_hops_and_drive() {
 #[test]
 fn a_jumper_resumed_while_landing_on_flat_ground_comes_to_rest_within_a_centimetre() {
     const TOLERANCE_M: f64 = 0.01;
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut reference = PhysicsSim::new(&world, &cfg, 3).unwrap();
-    let outputs: Vec<_> = (0..100)
-        .map(|_| reference.step_frame(&FrameInputs::default()))
-        .collect();
+    let outputs = run(&mut reference, 100, FrameInputs::default());
     let state_at = |k: usize| outputs[k].jumper_status.state;
     let first_landing = (0..100)
         .find(|&k| state_at(k) == HopState::Landing)
@@ -259,8 +255,7 @@ fn a_jumper_resumed_while_tumbling_on_rocky_ground_settles_near_the_original() {
 
 #[test]
 fn a_settled_jumper_stays_down_and_a_taken_request_is_remembered() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut original = PhysicsSim::new(&world, &cfg, 3).unwrap();
     for _ in 0..120 {
         original.step_frame(&FrameInputs::default());
@@ -291,8 +286,7 @@ fn five_frames_in() -> (
     PhysicsSim,
     hopnav_ipc::messages::PhysicsState,
 ) {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut original = PhysicsSim::new(&world, &cfg, 3).unwrap();
     for _ in 0..5 {
         original.step_frame(&FrameInputs::default());

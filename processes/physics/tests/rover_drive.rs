@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{drive, flat_world, physics, run, yaw_of};
+use common::{drive, flat_world, max_over, physics, run, yaw_of};
 use hopnav_physics::{BlockReason, PhysicsConfig, PhysicsSim, RoverMode};
 use hopnav_world::World;
 use hopnav_world::config::ExplicitRockConfig;
@@ -224,10 +224,7 @@ fn small_rock_is_climbed() {
     let outs = run(&mut sim, 400, drive([5.0, -3.0], 0.5));
     let last = outs.last().unwrap();
     let base_z = outs[0].rover.position_m[2];
-    let max_z = outs
-        .iter()
-        .map(|o| o.rover.position_m[2])
-        .fold(f64::MIN, f64::max);
+    let max_z = max_over(&outs, |o| o.rover.position_m[2]);
     let max_roll = outs
         .iter()
         .map(|o| {

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{flat_world, physics};
+use common::{flat_world, hop_scene, max_over, physics, run};
 use hopnav_physics::config::AltimeterConfig;
 use hopnav_physics::sensors::Altimeter;
 use hopnav_physics::{FrameInputs, PhysicsSim};
@@ -40,22 +40,16 @@ fn altimeter_noise_matches_sigma() {
 
 #[test]
 fn altimeter_in_the_sim_tracks_the_jumper() {
-    let world = flat_world(48.0, 12.0, &[]);
-    let cfg = physics([-14.0, 2.0], [-14.0, -2.5]);
+    let (world, cfg) = hop_scene();
     let mut sim = PhysicsSim::new(&world, &cfg, 4).unwrap();
-    let outs: Vec<_> = (0..150)
-        .map(|_| sim.step_frame(&FrameInputs::default()))
-        .collect();
+    let outs = run(&mut sim, 150, FrameInputs::default());
     let errs: Vec<f64> = outs
         .iter()
         .map(|o| o.altimeter.altitude_m - o.jumper.position_m[2])
         .collect();
     let std = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt();
     assert!((0.8..1.2).contains(&std), "std {std}");
-    let apex = outs
-        .iter()
-        .map(|o| o.altimeter.true_altitude_m)
-        .fold(f64::MIN, f64::max);
+    let apex = max_over(&outs, |o| o.altimeter.true_altitude_m);
     assert!(apex > 10.0);
 }
 
@@ -83,14 +77,8 @@ fn imu_sees_the_turn() {
     let mut sim = rover_beside_a_resting_jumper();
     let inputs = common::drive([0.0, 5.0], 0.5);
     let outs: Vec<_> = (0..40).map(|_| sim.step_frame(&inputs)).collect();
-    let max_rate = outs
-        .iter()
-        .map(|o| o.imu.angular_velocity_body_radps[2])
-        .fold(f64::MIN, f64::max);
-    let truth = outs
-        .iter()
-        .map(|o| o.rover.angular_velocity_radps[2])
-        .fold(f64::MIN, f64::max);
+    let max_rate = max_over(&outs, |o| o.imu.angular_velocity_body_radps[2]);
+    let truth = max_over(&outs, |o| o.rover.angular_velocity_radps[2]);
     assert!(
         (max_rate - truth).abs() < 0.02 && truth > 0.5,
         "imu {max_rate} truth {truth}"

@@ -6,11 +6,14 @@ use std::path::{Path, PathBuf};
 
 use hopnav_ipc::messages::FrameTick;
 use hopnav_ipc::process_loop::{Process, ProcessContext};
+use hopnav_ipc::transport::ZeroCopySend;
+use hopnav_ipc::validate::{Message, SliceHeader};
+use hopnav_ipc::wire::WireBytes;
 
 use crate::RecorderError;
 use crate::dataset::Dataset;
 use crate::recording::{BUILD_COMMIT, McapRecording};
-use crate::taps::Taps;
+use crate::taps::{MessageTap, SliceTap, Taps};
 
 /// Reads every tapped topic each frame and writes it to a dataset folder, an MCAP recording,
 /// or both.
@@ -27,6 +30,37 @@ fn into_dataset(
     write: impl FnOnce(&mut Dataset) -> Result<(), RecorderError>,
 ) -> Result<(), RecorderError> {
     dataset.as_mut().map_or(Ok(()), write)
+}
+
+/// Records every pending message of `tap` and writes each into the dataset, if there is one.
+fn into_dataset_per_message<M: Message + ZeroCopySend + WireBytes>(
+    tap: &MessageTap<M>,
+    recording: &mut Option<McapRecording>,
+    dataset: &mut Option<Dataset>,
+    write: fn(&mut Dataset, &M) -> Result<(), RecorderError>,
+) -> Result<(), RecorderError> {
+    tap.drain(recording, |message| {
+        into_dataset(dataset, |d| write(d, message))
+    })
+}
+
+/// Writes one slice (header and elements) into the dataset.
+type WriteSlice<H> =
+    fn(&mut Dataset, &H, &[<H as SliceHeader>::Element]) -> Result<(), RecorderError>;
+
+/// Records every pending slice of `tap` and writes each into the dataset, if there is one.
+fn into_dataset_per_slice<H: SliceHeader + ZeroCopySend + WireBytes>(
+    tap: &SliceTap<H>,
+    recording: &mut Option<McapRecording>,
+    dataset: &mut Option<Dataset>,
+    write: WriteSlice<H>,
+) -> Result<(), RecorderError>
+where
+    H::Element: ZeroCopySend + WireBytes,
+{
+    tap.drain(recording, |slice| {
+        into_dataset(dataset, |d| write(d, slice.header(), slice.elements()))
+    })
 }
 
 /// The file a start of the recorder writes: a restarted recorder must not overwrite what its
@@ -119,36 +153,22 @@ impl Process for Recorder {
             recording,
             ..
         } = self;
-        taps.body_states.drain(recording, |states| {
-            into_dataset(dataset, |d| d.body_states(states))
-        })?;
-        taps.altimeter.drain(recording, |sample| {
-            into_dataset(dataset, |d| d.altimeter(sample))
-        })?;
-        taps.imu
-            .drain(recording, |sample| into_dataset(dataset, |d| d.imu(sample)))?;
+        into_dataset_per_message(&taps.body_states, recording, dataset, Dataset::body_states)?;
+        into_dataset_per_message(&taps.altimeter, recording, dataset, Dataset::altimeter)?;
+        into_dataset_per_message(&taps.imu, recording, dataset, Dataset::imu)?;
         taps.physics_state.drain(recording, |_| Ok(()))?;
         taps.hop_launches.drain(recording, |_| Ok(()))?;
-        taps.jumper_images.drain(recording, |image| {
-            into_dataset(dataset, |d| {
-                d.jumper_image(image.header(), image.elements())
-            })
-        })?;
-        taps.rover_stereo.drain(recording, |pair| {
-            into_dataset(dataset, |d| d.rover_pair(pair.header(), pair.elements()))
-        })?;
-        taps.jumper_poses.drain(recording, |pose| {
-            into_dataset(dataset, |d| d.jumper_pose(pose))
-        })?;
-        taps.rover_poses.drain(recording, |pose| {
-            into_dataset(dataset, |d| d.rover_pose(pose))
-        })?;
-        taps.jumper_clouds.drain(recording, |cloud| {
-            into_dataset(dataset, |d| d.cloud(cloud.header(), cloud.elements()))
-        })?;
-        taps.rover_clouds.drain(recording, |cloud| {
-            into_dataset(dataset, |d| d.cloud(cloud.header(), cloud.elements()))
-        })?;
+        into_dataset_per_slice(
+            &taps.jumper_images,
+            recording,
+            dataset,
+            Dataset::jumper_image,
+        )?;
+        into_dataset_per_slice(&taps.rover_stereo, recording, dataset, Dataset::rover_pair)?;
+        into_dataset_per_message(&taps.jumper_poses, recording, dataset, Dataset::jumper_pose)?;
+        into_dataset_per_message(&taps.rover_poses, recording, dataset, Dataset::rover_pose)?;
+        into_dataset_per_slice(&taps.jumper_clouds, recording, dataset, Dataset::cloud)?;
+        into_dataset_per_slice(&taps.rover_clouds, recording, dataset, Dataset::cloud)?;
         taps.map_updates.drain(recording, |_| Ok(()))?;
         taps.map_snapshots.drain(recording, |_| Ok(()))?;
         taps.paths.drain(recording, |_| Ok(()))?;

@@ -16,53 +16,86 @@ use hopnav_ipc::wire::{self, WireBytes};
 use crate::RecorderError;
 use crate::recording::{ChannelSpec, McapRecording};
 
-/// A subscriber of fixed-size messages and its channel.
-pub struct MessageTap<M: Message + ZeroCopySend> {
-    subscriber: Subscriber<M>,
+/// A subscriber of one tapped topic and the index of its recording channel.
+pub struct Tap<P> {
+    subscriber: P,
     channel: usize,
 }
 
-/// A subscriber of slices and its channel.
-pub struct SliceTap<H: SliceHeader + ZeroCopySend>
+/// A tap of fixed-size messages.
+pub type MessageTap<M> = Tap<Subscriber<M>>;
+/// A tap of slices.
+pub type SliceTap<H> = Tap<SliceSubscriber<H>>;
+
+/// What a tap needs of its subscriber: to open it, the schema it records under, and its count
+/// of rejected samples.
+pub(crate) trait TapPort: Sized {
+    fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError>;
+    /// Schema name and text of the recorded samples.
+    fn schema() -> (String, String);
+    fn rejected_total(&self) -> u64;
+}
+
+impl<M: Message + ZeroCopySend + WireBytes> TapPort for Subscriber<M> {
+    fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError> {
+        Ok(Subscriber::open(&context.node, spec)?)
+    }
+
+    fn schema() -> (String, String) {
+        (wire::schema_name::<M>(), wire::schema_text::<M>())
+    }
+
+    fn rejected_total(&self) -> u64 {
+        self.rejected().total()
+    }
+}
+
+impl<H: SliceHeader + ZeroCopySend + WireBytes> TapPort for SliceSubscriber<H>
 where
-    H::Element: ZeroCopySend,
+    H::Element: ZeroCopySend + WireBytes,
 {
-    subscriber: SliceSubscriber<H>,
-    channel: usize,
+    fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError> {
+        Ok(SliceSubscriber::open(&context.node, spec)?)
+    }
+
+    fn schema() -> (String, String) {
+        (
+            wire::slice_schema_name::<H, H::Element>(),
+            wire::slice_schema_text::<H, H::Element>(),
+        )
+    }
+
+    fn rejected_total(&self) -> u64 {
+        self.rejected().total()
+    }
 }
 
-/// Adds the recording channel of topic `spec` with its schema; returns the channel's index.
-fn add_channel(
-    channels: &mut Vec<ChannelSpec>,
-    spec: &TopicSpec,
-    schema_name: String,
-    schema_text: String,
-) -> usize {
-    channels.push(ChannelSpec {
-        topic: spec.name.to_string(),
-        schema_name,
-        schema_text,
-    });
-    channels.len() - 1
-}
-
-impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
+impl<P: TapPort> Tap<P> {
+    /// Opens the subscriber of topic `spec` and adds its recording channel to `channels`.
     fn open(
         context: &ProcessContext,
         spec: &TopicSpec,
         channels: &mut Vec<ChannelSpec>,
     ) -> Result<Self, RecorderError> {
+        let subscriber = P::open_port(context, spec)?;
+        let (schema_name, schema_text) = P::schema();
+        channels.push(ChannelSpec {
+            topic: spec.name.to_string(),
+            schema_name,
+            schema_text,
+        });
         Ok(Self {
-            subscriber: Subscriber::open(&context.node, spec)?,
-            channel: add_channel(
-                channels,
-                spec,
-                wire::schema_name::<M>(),
-                wire::schema_text::<M>(),
-            ),
+            subscriber,
+            channel: channels.len() - 1,
         })
     }
 
+    fn rejected(&self) -> u64 {
+        self.subscriber.rejected_total()
+    }
+}
+
+impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
     /// Records every pending sample and hands each to `also`.
     pub fn drain(
         &self,
@@ -77,32 +110,12 @@ impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
         }
         Ok(())
     }
-
-    fn rejected(&self) -> u64 {
-        self.subscriber.rejected().total()
-    }
 }
 
 impl<H: SliceHeader + ZeroCopySend + WireBytes> SliceTap<H>
 where
     H::Element: ZeroCopySend + WireBytes,
 {
-    fn open(
-        context: &ProcessContext,
-        spec: &TopicSpec,
-        channels: &mut Vec<ChannelSpec>,
-    ) -> Result<Self, RecorderError> {
-        Ok(Self {
-            subscriber: SliceSubscriber::open(&context.node, spec)?,
-            channel: add_channel(
-                channels,
-                spec,
-                wire::slice_schema_name::<H, H::Element>(),
-                wire::slice_schema_text::<H, H::Element>(),
-            ),
-        })
-    }
-
     /// Records every pending sample (read in place) and hands each to `also`.
     pub fn drain(
         &self,
@@ -116,10 +129,6 @@ where
             also(&sample)?;
         }
         Ok(())
-    }
-
-    fn rejected(&self) -> u64 {
-        self.subscriber.rejected().total()
     }
 }
 

@@ -87,12 +87,17 @@ mod tests {
         Duration::from_millis(v)
     }
 
-    fn asleep(cpu_time_ns: u64) -> Option<ProgressSample> {
+    /// A progress sample of a process in state `stopped`/`busy` that has used `cpu_time_ns`.
+    fn sample(stopped: bool, busy: bool, cpu_time_ns: u64) -> Option<ProgressSample> {
         Some(ProgressSample {
-            stopped: false,
-            busy: false,
+            stopped,
+            busy,
             cpu_time_ns,
         })
+    }
+
+    fn asleep(cpu_time_ns: u64) -> Option<ProgressSample> {
+        sample(false, false, cpu_time_ns)
     }
 
     fn silence(silent_ms: u64, watched_ms: u64) -> Silence {
@@ -120,28 +125,16 @@ mod tests {
     #[test]
     fn a_process_that_used_cpu_or_is_runnable_is_not_asleep() {
         assert_eq!(hang_verdict(&LIMITS, &silence(180, 80), asleep(8)), None);
-        let runnable = Some(ProgressSample {
-            stopped: false,
-            busy: true,
-            cpu_time_ns: 7,
-        });
+        let runnable = sample(false, true, 7);
         assert_eq!(hang_verdict(&LIMITS, &silence(180, 80), runnable), None);
     }
 
     #[test]
     fn stopped_past_the_stall_limit_and_silent_past_the_hard_one_are_hung_at_once() {
-        let stopped = Some(ProgressSample {
-            stopped: true,
-            busy: false,
-            cpu_time_ns: 7,
-        });
+        let stopped = sample(true, false, 7);
         let why = hang_verdict(&LIMITS, &silence(160, 0), stopped).expect("hung");
         assert!(why.starts_with("stopped"), "{why}");
-        let busy = Some(ProgressSample {
-            stopped: false,
-            busy: true,
-            cpu_time_ns: 900,
-        });
+        let busy = sample(false, true, 900);
         let why = hang_verdict(&LIMITS, &silence(2100, 0), busy).expect("hung");
         assert!(why.contains("heartbeat_timeout_frames = 20"), "{why}");
         assert!(hang_verdict(&LIMITS, &silence(2100, 0), None).is_some());

@@ -25,7 +25,9 @@
 //! ```
 
 use crate::essential::eight_point::smallest_eigenvector;
-use crate::essential::{count_in_front, finite_correspondences, hartley_normalization};
+use crate::essential::{
+    count_in_front, finite_correspondences, hartley_normalization, normalized_pairs,
+};
 use nalgebra::{
     Isometry3, Matrix3, Rotation3, SMatrix, SVector, Translation3, Unit, UnitQuaternion,
     UnitVector3, Vector2, Vector3,
@@ -74,9 +76,9 @@ pub fn homography_dlt(
     let t1 = hartley_normalization(x1, indices).ok_or(HomographyError::Degenerate)?;
     let t2 = hartley_normalization(x2, indices).ok_or(HomographyError::Degenerate)?;
     let h_norm = if indices.len() == 4 {
-        minimal_four_point(x1, x2, indices, &t1, &t2)?
+        minimal_four_point(normalized_pairs(x1, x2, indices, &t1, &t2))?
     } else {
-        least_squares_dlt(x1, x2, indices, &t1, &t2)?
+        least_squares_dlt(normalized_pairs(x1, x2, indices, &t1, &t2))?
     };
     let t2_inv = t2.try_inverse().ok_or(HomographyError::Degenerate)?;
     let h = t2_inv * h_norm * t1;
@@ -87,21 +89,15 @@ pub fn homography_dlt(
     Ok(h / norm)
 }
 
-/// Exactly four normalized correspondences: `h₃₃ = 1` and an 8×8 linear solve (much cheaper than
+/// Exactly four normalized correspondences (the first four of `pairs`, from [`normalized_pairs`]): `h₃₃ = 1` and an 8×8 linear solve (much cheaper than
 /// the eigen-decomposition; `h₃₃ = 0` would need the centroid to map to infinity, which no
 /// valid sample does).
 fn minimal_four_point(
-    x1: &[Vector2<f64>],
-    x2: &[Vector2<f64>],
-    indices: &[usize],
-    t1: &Matrix3<f64>,
-    t2: &Matrix3<f64>,
+    pairs: impl Iterator<Item = (Vector3<f64>, Vector3<f64>)>,
 ) -> Result<Matrix3<f64>, HomographyError> {
     let mut a = SMatrix::<f64, 8, 8>::zeros();
     let mut b = SVector::<f64, 8>::zeros();
-    for (k, &i) in indices.iter().take(4).enumerate() {
-        let p = t1 * x1[i].push(1.0);
-        let q = t2 * x2[i].push(1.0);
+    for (k, (p, q)) in pairs.take(4).enumerate() {
         let (u, v) = (q.x, q.y);
         let r = 2 * k;
         // u (h31 x + h32 y + 1) = h11 x + h12 y + h13, likewise for v.
@@ -143,18 +139,12 @@ fn minimal_four_point(
     ))
 }
 
-/// Least-squares DLT on normalized points (smallest eigenvector of `AᵀA`).
+/// Least-squares DLT on normalized correspondences `pairs` (smallest eigenvector of `AᵀA`).
 fn least_squares_dlt(
-    x1: &[Vector2<f64>],
-    x2: &[Vector2<f64>],
-    indices: &[usize],
-    t1: &Matrix3<f64>,
-    t2: &Matrix3<f64>,
+    pairs: impl Iterator<Item = (Vector3<f64>, Vector3<f64>)>,
 ) -> Result<Matrix3<f64>, HomographyError> {
     let mut ata = SMatrix::<f64, 9, 9>::zeros();
-    for &i in indices {
-        let a = t1 * x1[i].push(1.0);
-        let b = t2 * x2[i].push(1.0);
+    for (a, b) in pairs {
         let (u, v) = (b.x, b.y);
         let r1 = SVector::<f64, 9>::from_column_slice(&[
             0.0,

@@ -51,13 +51,9 @@ pub fn score_essential(
     x2: &[Vector2<f64>],
     inv_sigma_sq: f64,
 ) -> f64 {
-    x1.iter()
-        .zip(x2)
-        .map(|(a, b)| {
-            let (d1, d2) = epipolar_distances_sq(e, a, b);
-            truncated(d1 * inv_sigma_sq, CHI2_1DOF_95) + truncated(d2 * inv_sigma_sq, CHI2_1DOF_95)
-        })
-        .sum()
+    two_way_score(x1, x2, inv_sigma_sq, CHI2_1DOF_95, |a, b| {
+        epipolar_distances_sq(e, a, b)
+    })
 }
 
 /// Score `S_H` of a homography (with its inverse) over all correspondences (higher is better).
@@ -68,12 +64,25 @@ pub fn score_homography(
     x2: &[Vector2<f64>],
     inv_sigma_sq: f64,
 ) -> f64 {
+    two_way_score(x1, x2, inv_sigma_sq, CHI2_2DOF_95, |a, b| {
+        transfer_errors_sq(h, h_inv, a, b)
+    })
+}
+
+/// Sum over all correspondences of the truncated scores of both squared errors (one in each
+/// image) that `errors_sq` gives for a correspondence; `threshold` is the χ² rejection bound.
+fn two_way_score(
+    x1: &[Vector2<f64>],
+    x2: &[Vector2<f64>],
+    inv_sigma_sq: f64,
+    threshold: f64,
+    errors_sq: impl Fn(&Vector2<f64>, &Vector2<f64>) -> (f64, f64),
+) -> f64 {
     x1.iter()
         .zip(x2)
         .map(|(a, b)| {
-            let (fwd, bwd) = transfer_errors_sq(h, h_inv, a, b);
-            truncated(fwd * inv_sigma_sq, CHI2_2DOF_95)
-                + truncated(bwd * inv_sigma_sq, CHI2_2DOF_95)
+            let (first, second) = errors_sq(a, b);
+            truncated(first * inv_sigma_sq, threshold) + truncated(second * inv_sigma_sq, threshold)
         })
         .sum()
 }

@@ -339,16 +339,30 @@ fn downsample(src: &PaddedPlane, dst: &mut PaddedPlane, scratch: &mut [f32]) {
     }
 }
 
+/// Test helpers of the crate.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::{Pyramid, PyramidConfig};
+    use crate::image::ImageView;
+
+    /// The default pyramid of a packed `w × h` image.
+    pub(crate) fn packed_pyramid(pixels: &[u8], w: usize, h: usize) -> Pyramid {
+        let mut pyr = Pyramid::new(w, h, PyramidConfig::default()).expect("pyramid");
+        pyr.build(&ImageView::packed(pixels, w, h).expect("image"))
+            .expect("build");
+        pyr
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::test_support::packed_pyramid;
     use super::*;
 
     #[test]
     fn constant_image_stays_constant_and_flat() {
         let pixels = vec![77u8; 33 * 20];
-        let mut pyr = Pyramid::new(33, 20, PyramidConfig::default()).unwrap();
-        pyr.build(&ImageView::packed(&pixels, 33, 20).unwrap())
-            .unwrap();
+        let pyr = packed_pyramid(&pixels, 33, 20);
         assert_eq!(pyr.num_levels(), 2); // 33x20 -> 17x10 -> (9x5 too small)
         for l in 0..pyr.num_levels() {
             let lvl = pyr.level(l).unwrap();
@@ -365,9 +379,7 @@ mod tests {
     fn ramp_gradient_and_size_checks() {
         let (w, h) = (40usize, 30usize);
         let pixels: Vec<u8> = (0..w * h).map(|i| (2 * (i % w)) as u8).collect();
-        let mut pyr = Pyramid::new(w, h, PyramidConfig::default()).unwrap();
-        pyr.build(&ImageView::packed(&pixels, w, h).unwrap())
-            .unwrap();
+        let mut pyr = packed_pyramid(&pixels, w, h);
         let l0 = pyr.level(0).unwrap();
         assert!((l0.grad_x.get(10, 10).unwrap() - 2.0).abs() < 1e-5);
         assert!(l0.grad_y.get(10, 10).unwrap().abs() < 1e-5);

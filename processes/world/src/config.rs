@@ -64,6 +64,27 @@ pub(crate) fn min_max_pair(
     Ok(())
 }
 
+/// Largest rock diameter any rock population may ask for, metres.
+const LARGEST_ROCK_DIAMETER_M: f64 = 10.0;
+
+/// Checks the size fields every rock population has: `diameter_min_m` and `diameter_max_m` in
+/// `[smallest_diameter_m, 10]` and ordered, then `height_ratio` in (0, 2].
+pub(crate) fn rock_sizes(
+    prefix: &str,
+    smallest_diameter_m: f64,
+    [diameter_min_m, diameter_max_m]: [f64; 2],
+    height_ratio: f64,
+) -> Result<(), ConfigError> {
+    min_max_pair(
+        prefix,
+        ("diameter_min_m", diameter_min_m),
+        ("diameter_max_m", diameter_max_m),
+        Interval::closed(smallest_diameter_m, LARGEST_ROCK_DIAMETER_M),
+    )?;
+    Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", height_ratio)?;
+    Ok(())
+}
+
 /// Whole world: terrain, craters, rocks, texture, lighting, scenario points and test markers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

@@ -18,22 +18,17 @@ pub use hopnav_metrics::trajectory::{errors as metrics, tum};
 use hopnav_rover_vo::config::RoverVoConfig;
 use hopnav_rover_vo::pipeline::VoStatus;
 use hopnav_rover_vo::run::{RunError, TraverseRun, quantile, run_traverse};
-use hopnav_rover_vo::simulate::{SimError, SimulatedTraverse, TraverseConfig, simulate_traverse};
+use hopnav_rover_vo::simulate::{SimulatedTraverse, TraverseConfig, simulate_traverse};
 use nalgebra::Isometry3;
 use std::path::PathBuf;
 
 /// Error of [`run`].
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
-    /// The traverse could not be simulated.
-    #[error(transparent)]
-    Sim(#[from] SimError),
-    /// The VO could not be run over it.
+    /// The traverse could not be simulated, the VO could not be run over it, or it gave too
+    /// few frames to evaluate (the driver's own errors, as the benchmark reports them).
     #[error(transparent)]
     Run(#[from] RunError),
-    /// Too few frames to evaluate.
-    #[error("too few frames to evaluate")]
-    TooFewFrames,
     /// A TUM file could not be written.
     #[error(transparent)]
     Tum(#[from] tum::TumError),
@@ -257,9 +252,9 @@ impl std::fmt::Display for EvalReport {
 /// Simulates the traverse, runs the VO, computes the metrics, and writes the TUM files and
 /// the PNG if `options.out_dir` is set.
 pub fn run(options: &EvalOptions) -> Result<EvalReport, EvalError> {
-    let sim = simulate_traverse(&options.traverse)?;
+    let sim = simulate_traverse(&options.traverse).map_err(RunError::from)?;
     let run = run_traverse(&sim, &options.vo)?;
-    let report = evaluate_traverse(&run, &sim).ok_or(EvalError::TooFewFrames)?;
+    let report = evaluate_traverse(&run, &sim).ok_or(RunError::TooFewFrames)?;
     if let Some(dir) = &options.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| EvalError::OutDir {
             path: dir.display().to_string(),

@@ -81,12 +81,9 @@ pub(crate) fn subscribe(args: &PeerArgs) -> Result<Vec<SampleTiming>, BenchError
             .map_err(|e| BenchError::transport("receive", e))?
         {
             let received_ns = monotonic_now_ns();
-            let header = sample.header();
-            timings.push(SampleTiming {
-                fill_ns: header.fill_time_ns,
-                transport_ns: received_ns.saturating_sub(header.stamp.publish_stamp_ns),
-            });
-            crate::peer::check_payload(header.stamp.frame_index, sample.elements())?;
+            let index = sample.header().stamp.frame_index;
+            timings.push(SampleTiming::of_image(sample.header(), received_ns));
+            crate::peer::check_payload(index, sample.elements())?;
             drop(sample);
             ack.ack()?;
         }

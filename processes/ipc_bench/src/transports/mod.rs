@@ -56,3 +56,23 @@ pub struct SampleTiming {
     /// Publish stamp to receipt, ns.
     pub transport_ns: u64,
 }
+
+impl SampleTiming {
+    /// The timings of a message filled in `fill_ns`, stamped at `publish_stamp_ns` and received
+    /// at `received_ns`.
+    pub(crate) fn new(fill_ns: u64, publish_stamp_ns: u64, received_ns: u64) -> Self {
+        Self {
+            fill_ns,
+            transport_ns: received_ns.saturating_sub(publish_stamp_ns),
+        }
+    }
+
+    /// The timings of a benchmark image received at `received_ns`, from its header.
+    pub(crate) fn of_image(header: &hopnav_ipc::messages::ImageHeader, received_ns: u64) -> Self {
+        Self::new(
+            header.fill_time_ns,
+            header.stamp.publish_stamp_ns,
+            received_ns,
+        )
+    }
+}

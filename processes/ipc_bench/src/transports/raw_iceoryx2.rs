@@ -120,12 +120,11 @@ pub(crate) fn subscribe(args: &PeerArgs, poll: bool) -> Result<Vec<SampleTiming>
         {
             Some(sample) => {
                 let received_ns = monotonic_now_ns();
-                let header = sample.user_header();
-                timings.push(SampleTiming {
-                    fill_ns: header.fill_time_ns,
-                    transport_ns: received_ns.saturating_sub(header.stamp.publish_stamp_ns),
-                });
-                crate::peer::check_payload(header.stamp.frame_index, sample.payload())?;
+                timings.push(SampleTiming::of_image(sample.user_header(), received_ns));
+                crate::peer::check_payload(
+                    sample.user_header().stamp.frame_index,
+                    sample.payload(),
+                )?;
                 drop(sample);
                 ack.ack()?;
                 last_progress = Instant::now();

@@ -85,10 +85,11 @@ pub(crate) fn subscribe(args: &PeerArgs) -> Result<Vec<SampleTiming>, BenchError
         let message: Message =
             codec::decode(&buffer).map_err(|e| BenchError::transport("decode", e))?;
         let received_ns = monotonic_now_ns();
-        timings.push(SampleTiming {
-            fill_ns: message.fill_ns,
-            transport_ns: received_ns.saturating_sub(message.publish_stamp_ns),
-        });
+        timings.push(SampleTiming::new(
+            message.fill_ns,
+            message.publish_stamp_ns,
+            received_ns,
+        ));
         crate::peer::check_payload(message.index, &message.payload)?;
         stream.write_all(&[1]).map_err(io("ack"))?;
     }

@@ -95,6 +95,29 @@ mod tests {
         (pw, rock, footprint, Pose::IDENTITY)
     }
 
+    /// Takes up to `steps` moves `step` from `start` while the rule allows each; returns the
+    /// deepest overlap with `rock` reached, metres.
+    fn deepest_allowed_m(
+        pw: &PhysicsWorld,
+        rock: ColliderHandle,
+        footprint: &Cuboid,
+        start: Pose,
+        steps: usize,
+        step: impl Fn(&Pose) -> Pose,
+    ) -> f32 {
+        let mut current = start;
+        let mut deepest_m: f32 = 0.0;
+        for _ in 0..steps {
+            let next = step(&current);
+            if !separates_from_rock(pw, rock, footprint, (&current, &next), 1e-4) {
+                break;
+            }
+            current = next;
+            deepest_m = deepest_m.max(depth_m(pw, rock, footprint, &current));
+        }
+        deepest_m
+    }
+
     /// How deep `footprint` at `pose` is in `rock`, metres.
     fn depth_m(pw: &PhysicsWorld, rock: ColliderHandle, footprint: &Cuboid, pose: &Pose) -> f32 {
         let collider = &pw.colliders[rock];
@@ -122,7 +145,7 @@ mod tests {
     fn driving_on_along_a_rock_while_steering_a_little_may_deepen_only_to_the_bound() {
         // The rock touches the flank 0.3 m ahead of the middle; each substep drives 2.5 mm on
         // and yaws 2 mrad toward it, which swings the flank 0.6 mm deeper.
-        let (pw, rock, footprint, mut current) = rock_beside_the_flank(0.3);
+        let (pw, rock, footprint, current) = rock_beside_the_flank(0.3);
         let step = |pose: &Pose| {
             Pose::from_parts(
                 pose.translation + Vec3::new(0.0025, 0.0, 0.0),
@@ -138,15 +161,7 @@ mod tests {
             separates_from_rock(&pw, rock, &footprint, (&current, &first), 1e-4),
             "a slight steer along the rock froze the rover"
         );
-        let mut deepest_m: f32 = 0.0;
-        for _ in 0..400 {
-            let next = step(&current);
-            if !separates_from_rock(&pw, rock, &footprint, (&current, &next), 1e-4) {
-                break;
-            }
-            current = next;
-            deepest_m = deepest_m.max(depth_m(&pw, rock, &footprint, &current));
-        }
+        let deepest_m = deepest_allowed_m(&pw, rock, &footprint, current, 400, step);
         assert!(
             deepest_m > 0.04,
             "the test no longer nears the bound: {deepest_m} m"
@@ -159,22 +174,16 @@ mod tests {
 
     #[test]
     fn stepping_away_while_a_corner_swings_in_cannot_ratchet_into_the_rock() {
-        let (pw, rock, footprint, mut current) = rock_beside_the_flank(-0.45);
+        let (pw, rock, footprint, start) = rock_beside_the_flank(-0.45);
         // Each substep backs the centre 1 mm away from the rock beside the rear-left corner
         // while a 0.01 rad clockwise yaw swings that corner 5 mm in: the overlap grows at every
         // step the rule allows.
-        let mut deepest_m: f32 = 0.0;
-        for _ in 0..100 {
-            let next = Pose::from_parts(
-                current.translation + Vec3::new(0.0, -0.001, 0.0),
-                (Quat::from_rotation_z(-0.01) * current.rotation).normalize(),
-            );
-            if !separates_from_rock(&pw, rock, &footprint, (&current, &next), 1e-4) {
-                break;
-            }
-            current = next;
-            deepest_m = deepest_m.max(depth_m(&pw, rock, &footprint, &current));
-        }
+        let deepest_m = deepest_allowed_m(&pw, rock, &footprint, start, 100, |pose| {
+            Pose::from_parts(
+                pose.translation + Vec3::new(0.0, -0.001, 0.0),
+                (Quat::from_rotation_z(-0.01) * pose.rotation).normalize(),
+            )
+        });
         assert!(
             deepest_m > 0.03,
             "the test no longer deepens: {deepest_m} m"

@@ -27,9 +27,23 @@ pub fn physics(jumper_xy: [f64; 2], rover_xy: [f64; 2]) -> PhysicsConfig {
     cfg
 }
 
+/// The hop scene: a flat 48 × 12 m world with the jumper at (−14, 2) and the rover at
+/// (−14, −2.5), out of each other's way.
+pub fn hop_scene() -> (World, PhysicsConfig) {
+    (
+        flat_world(48.0, 12.0, &[]),
+        physics([-14.0, 2.0], [-14.0, -2.5]),
+    )
+}
+
 /// Steps `frames` frames with the same inputs every frame; returns all outputs.
 pub fn run(sim: &mut PhysicsSim, frames: usize, inputs: FrameInputs) -> Vec<FrameOutputs> {
     (0..frames).map(|_| sim.step_frame(&inputs)).collect()
+}
+
+/// The largest `value` over `outputs` (`f64::MIN` when there are none).
+pub fn max_over(outputs: &[FrameOutputs], value: impl Fn(&FrameOutputs) -> f64) -> f64 {
+    outputs.iter().map(value).fold(f64::MIN, f64::max)
 }
 
 /// Inputs that only drive the rover.

@@ -70,15 +70,27 @@ impl FrameLoop {
         }
         match ChildProcess::spawn(&self.child_spec(slot_index, true)) {
             Ok(child) => self.stats.slots[slot_index].standby = Some(child),
-            Err(error) => {
-                let slot = &mut self.stats.slots[slot_index];
-                slot.standby_failed = true;
-                eprintln!(
-                    "\ncannot start a standby of {}: {error}; its restarts will be cold",
-                    slot.name
-                );
-            }
+            Err(error) => self.give_up_standby(
+                slot_index,
+                "start a standby",
+                &error,
+                "its restarts will be cold",
+            ),
         }
+    }
+
+    /// Marks `slot_index` as one that gets no more standbys (its restarts are cold) and says
+    /// why: `cannot {what} of NAME: {error}; {consequence}`.
+    fn give_up_standby(
+        &mut self,
+        slot_index: usize,
+        what: &str,
+        error: &dyn std::fmt::Display,
+        consequence: &str,
+    ) {
+        let slot = &mut self.stats.slots[slot_index];
+        slot.standby_failed = true;
+        eprintln!("\ncannot {what} of {}: {error}; {consequence}", slot.name);
     }
 
     /// Restarts `slot_index` (its incarnation already counted up): promotes its standby if
@@ -101,11 +113,11 @@ impl FrameLoop {
                     return Ok(how);
                 }
                 Err(error) => {
-                    let slot = &mut self.stats.slots[slot_index];
-                    slot.standby_failed = true;
-                    eprintln!(
-                        "\ncannot promote the standby of {}: {error}; starting it cold",
-                        slot.name
+                    self.give_up_standby(
+                        slot_index,
+                        "promote the standby",
+                        &error,
+                        "starting it cold",
                     );
                     standby.kill_and_reap();
                 }

@@ -1,17 +1,26 @@
 //! Tests of the `corners` module.
 
 use super::*;
-use crate::image::ImageView;
-use crate::pyramid::{Pyramid, PyramidConfig};
+use crate::pyramid::Pyramid;
+use crate::pyramid::test_support::packed_pyramid;
 use crate::synthetic::{AffineWarp, BlobTexture};
 
 fn textured_pyramid(w: usize, h: usize, blobs: usize, seed: u64) -> Pyramid {
     let mut pixels = vec![0u8; w * h];
     BlobTexture::random(w, h, blobs, seed).render(w, h, &AffineWarp::identity(), &mut pixels);
-    let mut pyr = Pyramid::new(w, h, PyramidConfig::default()).unwrap();
-    pyr.build(&ImageView::packed(&pixels, w, h).unwrap())
-        .unwrap();
-    pyr
+    packed_pyramid(&pixels, w, h)
+}
+
+/// The pyramid of a `size × size` texture of `blobs` random blobs and a detector of `config`
+/// for it.
+fn textured_detector(
+    size: usize,
+    blobs: usize,
+    seed: u64,
+    config: CornerConfig,
+) -> (Pyramid, CornerDetector) {
+    let pyr = textured_pyramid(size, size, blobs, seed);
+    (pyr, CornerDetector::new(size, size, config).unwrap())
 }
 
 /// Up to `max_features` corners at least `min_distance_px` apart over a `grid × grid`
@@ -28,10 +37,8 @@ fn square_grid_config(max_features: usize, grid: usize, min_distance_px: f32) ->
 
 #[test]
 fn respects_cap_bucketing_and_min_distance() {
-    let (w, h) = (160, 160);
-    let pyr = textured_pyramid(w, h, 900, 11);
-    let config = square_grid_config(120, 4, 5.0);
-    let mut det = CornerDetector::new(w, h, config).unwrap();
+    let w = 160;
+    let (pyr, mut det) = textured_detector(w, 900, 11, square_grid_config(120, 4, 5.0));
     let mut out = Vec::new();
     let n = det.detect(pyr.level(0).unwrap(), &[], &mut out).unwrap();
     assert_eq!(n, out.len());
@@ -55,10 +62,7 @@ fn respects_cap_bucketing_and_min_distance() {
 
 #[test]
 fn keeps_away_from_existing_tracks_and_counts_them() {
-    let (w, h) = (128, 128);
-    let pyr = textured_pyramid(w, h, 600, 5);
-    let config = square_grid_config(60, 2, 8.0);
-    let mut det = CornerDetector::new(w, h, config).unwrap();
+    let (pyr, mut det) = textured_detector(128, 600, 5, square_grid_config(60, 2, 8.0));
     let mut first = Vec::new();
     det.detect(pyr.level(0).unwrap(), &[], &mut first).unwrap();
     let existing: Vec<_> = first.iter().take(25).map(|c| c.position_px).collect();
@@ -90,9 +94,7 @@ fn leftover_budget_goes_to_strong_corners() {
     for row in pixels.chunks_exact_mut(w) {
         row[w / 2..].fill(128);
     }
-    let mut pyr = Pyramid::new(w, h, PyramidConfig::default()).unwrap();
-    pyr.build(&ImageView::packed(&pixels, w, h).unwrap())
-        .unwrap();
+    let pyr = packed_pyramid(&pixels, w, h);
     let base = square_grid_config(100, 4, 4.0);
     let mut strict = Vec::new();
     CornerDetector::new(w, h, base)
@@ -120,9 +122,7 @@ fn leftover_budget_goes_to_strong_corners() {
 #[test]
 fn flat_image_has_no_corners() {
     let pixels = vec![90u8; 64 * 64];
-    let mut pyr = Pyramid::new(64, 64, PyramidConfig::default()).unwrap();
-    pyr.build(&ImageView::packed(&pixels, 64, 64).unwrap())
-        .unwrap();
+    let pyr = packed_pyramid(&pixels, 64, 64);
     let mut det = CornerDetector::new(64, 64, CornerConfig::default()).unwrap();
     let mut out = Vec::new();
     assert_eq!(det.detect(pyr.level(0).unwrap(), &[], &mut out).unwrap(), 0);

@@ -16,7 +16,10 @@
 //! assert!(sampson_error_sq(&e, &x1[0], &x2[0]) < 1e-18);
 //! ```
 
-use super::{epipolar_row, finite_correspondences, hartley_normalization, project_to_essential};
+use super::{
+    epipolar_row, finite_correspondences, hartley_normalization, normalized_pairs,
+    project_to_essential,
+};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2};
 
 /// Error of the 8-point solver.
@@ -52,9 +55,7 @@ pub fn essential_eight_point(
     let t1 = hartley_normalization(x1, indices).ok_or(EightPointError::Degenerate)?;
     let t2 = hartley_normalization(x2, indices).ok_or(EightPointError::Degenerate)?;
     let mut ata = SMatrix::<f64, 9, 9>::zeros();
-    for &i in indices {
-        let a = t1 * x1[i].push(1.0);
-        let b = t2 * x2[i].push(1.0);
+    for (a, b) in normalized_pairs(x1, x2, indices, &t1, &t2) {
         let row = SVector::<f64, 9>::from(epipolar_row([a.x, a.y], [b.x, b.y]));
         ata += row * row.transpose();
     }

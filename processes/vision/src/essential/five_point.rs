@@ -29,45 +29,41 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector2};
 
 type Mat10 = SMatrix<f64, 10, 10>;
 
-/// Exponents `(x, y, z)` of the linear monomials `[x, y, z, 1]`.
-const LIN: [[u8; 3]; 4] = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 0]];
+/// Exponents `(x, y, z)` of every monomial of degree ≤ `max_degree`, highest degree first and,
+/// within a degree, `z` then `y` rising (`x²`, `xy`, `y²`, `xz`, `yz`, `z²` for degree 2). `N` must
+/// be the number of such monomials, `(d + 1)(d + 2)(d + 3) / 6`.
+const fn monomials<const N: usize>(max_degree: u8) -> [[u8; 3]; N] {
+    let mut table = [[0; 3]; N];
+    let mut k = 0;
+    let mut degree = max_degree as i32;
+    while degree >= 0 {
+        let d = degree as u8;
+        let mut z = 0;
+        while z <= d {
+            let mut y = 0;
+            while y <= d - z {
+                table[k] = [d - z - y, y, z];
+                k += 1;
+                y += 1;
+            }
+            z += 1;
+        }
+        degree -= 1;
+    }
+    assert!(
+        k == N,
+        "N is not the number of monomials of degree <= max_degree"
+    );
+    table
+}
+
+/// The linear monomials `[x, y, z, 1]`.
+const LIN: [[u8; 3]; 4] = monomials(1);
 /// Monomials of degree ≤ 2: `[x², xy, y², xz, yz, z², x, y, z, 1]` (also the quotient basis).
-const QUAD: [[u8; 3]; 10] = [
-    [2, 0, 0],
-    [1, 1, 0],
-    [0, 2, 0],
-    [1, 0, 1],
-    [0, 1, 1],
-    [0, 0, 2],
-    [1, 0, 0],
-    [0, 1, 0],
-    [0, 0, 1],
-    [0, 0, 0],
-];
+const QUAD: [[u8; 3]; 10] = monomials(2);
 /// Monomials of degree ≤ 3: the ten cubics `[x³, x²y, xy², y³, x²z, xyz, y²z, xz², yz², z³]`
 /// followed by [`QUAD`].
-const CUB: [[u8; 3]; 20] = [
-    [3, 0, 0],
-    [2, 1, 0],
-    [1, 2, 0],
-    [0, 3, 0],
-    [2, 0, 1],
-    [1, 1, 1],
-    [0, 2, 1],
-    [1, 0, 2],
-    [0, 1, 2],
-    [0, 0, 3],
-    [2, 0, 0],
-    [1, 1, 0],
-    [0, 2, 0],
-    [1, 0, 1],
-    [0, 1, 1],
-    [0, 0, 2],
-    [1, 0, 0],
-    [0, 1, 0],
-    [0, 0, 1],
-    [0, 0, 0],
-];
+const CUB: [[u8; 3]; 20] = monomials(3);
 
 const fn find<const N: usize>(table: &[[u8; 3]; N], e: [u8; 3]) -> usize {
     let mut i = 0;
@@ -84,58 +80,55 @@ const fn add(a: [u8; 3], b: [u8; 3]) -> [u8; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
-/// `LIN[i] · LIN[j]` as an index into [`QUAD`].
-const LIN_LIN: [[usize; 4]; 4] = {
-    let mut t = [[0; 4]; 4];
+/// `left[i] · LIN[j]` as an index into `product_basis`.
+const fn times_lin_indices<const L: usize, const P: usize>(
+    left: &[[u8; 3]; L],
+    product_basis: &[[u8; 3]; P],
+) -> [[usize; 4]; L] {
+    let mut t = [[0; 4]; L];
     let mut i = 0;
-    while i < 4 {
+    while i < L {
         let mut j = 0;
         while j < 4 {
-            t[i][j] = find(&QUAD, add(LIN[i], LIN[j]));
+            t[i][j] = find(product_basis, add(left[i], LIN[j]));
             j += 1;
         }
         i += 1;
     }
     t
-};
+}
 
+/// `LIN[i] · LIN[j]` as an index into [`QUAD`].
+const LIN_LIN: [[usize; 4]; 4] = times_lin_indices(&LIN, &QUAD);
 /// `QUAD[i] · LIN[j]` as an index into [`CUB`].
-const QUAD_LIN: [[usize; 4]; 10] = {
-    let mut t = [[0; 4]; 10];
-    let mut i = 0;
-    while i < 10 {
-        let mut j = 0;
-        while j < 4 {
-            t[i][j] = find(&CUB, add(QUAD[i], LIN[j]));
-            j += 1;
-        }
-        i += 1;
-    }
-    t
-};
+const QUAD_LIN: [[usize; 4]; 10] = times_lin_indices(&QUAD, &CUB);
 
 type Lin = [f64; 4];
 type Quad = [f64; 10];
 type Cub = [f64; 20];
 
-fn lin_mul(a: &Lin, b: &Lin) -> Quad {
-    let mut out = [0.0; 10];
-    for i in 0..4 {
+/// The product of the polynomial `a` and the linear polynomial `b`; `indices` is
+/// [`times_lin_indices`] of `a`'s basis into the product's.
+fn times_lin<const L: usize, const P: usize>(
+    a: &[f64; L],
+    b: &Lin,
+    indices: &[[usize; 4]; L],
+) -> [f64; P] {
+    let mut out = [0.0; P];
+    for i in 0..L {
         for j in 0..4 {
-            out[LIN_LIN[i][j]] += a[i] * b[j];
+            out[indices[i][j]] += a[i] * b[j];
         }
     }
     out
 }
 
+fn lin_mul(a: &Lin, b: &Lin) -> Quad {
+    times_lin(a, b, &LIN_LIN)
+}
+
 fn quad_mul(a: &Quad, b: &Lin) -> Cub {
-    let mut out = [0.0; 20];
-    for i in 0..10 {
-        for j in 0..4 {
-            out[QUAD_LIN[i][j]] += a[i] * b[j];
-        }
-    }
-    out
+    times_lin(a, b, &QUAD_LIN)
 }
 
 fn quad_add(a: &mut Quad, b: &Quad) {
@@ -332,6 +325,17 @@ mod tests {
     fn monomial_tables_are_complete() {
         assert!(LIN_LIN.iter().flatten().all(|&i| i < 10));
         assert!(QUAD_LIN.iter().flatten().all(|&i| i < 20));
+    }
+
+    #[test]
+    fn monomial_tables_list_the_documented_order() {
+        assert_eq!(LIN, [[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 0]]);
+        assert_eq!(QUAD[6..], LIN);
+        assert_eq!(CUB[10..], QUAD);
+        // Highest degree first; within a degree, z then y rising.
+        let order = |e: &[u8; 3]| (u8::MAX - (e[0] + e[1] + e[2]), e[2], e[1]);
+        assert!(CUB.windows(2).all(|w| order(&w[0]) < order(&w[1])));
+        assert!(QUAD[..6].windows(2).all(|w| order(&w[0]) < order(&w[1])));
     }
 
     #[test]

@@ -199,6 +199,20 @@ pub(crate) fn finite_correspondences(
     })
 }
 
+/// The correspondences `indices` of `x1 ↔ x2` as homogeneous points, each mapped by its
+/// view's normalization (`t1`, `t2`).
+pub(crate) fn normalized_pairs<'a>(
+    x1: &'a [Vector2<f64>],
+    x2: &'a [Vector2<f64>],
+    indices: &'a [usize],
+    t1: &'a Matrix3<f64>,
+    t2: &'a Matrix3<f64>,
+) -> impl Iterator<Item = (Vector3<f64>, Vector3<f64>)> + 'a {
+    indices
+        .iter()
+        .map(move |&i| (t1 * x1[i].push(1.0), t2 * x2[i].push(1.0)))
+}
+
 /// Hartley normalisation of the selected points: `T` maps them to zero mean and mean distance
 /// `√2`. `None` if all points coincide or a value is non-finite.
 pub(crate) fn hartley_normalization(

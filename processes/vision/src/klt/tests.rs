@@ -3,8 +3,7 @@
 use super::window::{fast_floor, mismatch, sample_window};
 use super::*;
 use crate::corners::{CornerConfig, CornerDetector};
-use crate::image::ImageView;
-use crate::pyramid::PyramidConfig;
+use crate::pyramid::test_support::packed_pyramid;
 use crate::synthetic::{AffineWarp, BlobTexture};
 
 const W: usize = 128;
@@ -13,9 +12,7 @@ const H: usize = 128;
 fn pyramid_of(tex: &BlobTexture, warp: &AffineWarp) -> (Pyramid, Vec<u8>) {
     let mut pixels = vec![0u8; W * H];
     tex.render(W, H, warp, &mut pixels);
-    let mut pyr = Pyramid::new(W, H, PyramidConfig::default()).unwrap();
-    pyr.build(&ImageView::packed(&pixels, W, H).unwrap())
-        .unwrap();
+    let pyr = packed_pyramid(&pixels, W, H);
     (pyr, pixels)
 }
 
@@ -221,9 +218,7 @@ fn forward_backward_rejects_occluded_tracks() {
             pixels[y * W + x] = other[y * W + x];
         }
     }
-    let mut next = Pyramid::new(W, H, PyramidConfig::default()).unwrap();
-    next.build(&ImageView::packed(&pixels, W, H).unwrap())
-        .unwrap();
+    let next = packed_pyramid(&pixels, W, H);
     let pts = corners_of(&prev, 80);
     let mut out = vec![Point2::origin(); pts.len()];
     let mut status = vec![TrackStatus::Tracked; pts.len()];

@@ -4,7 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{Interval, TerrainConfig, check_int, dotted_key, inconsistent, min_max_pair};
+use super::{
+    Interval, TerrainConfig, check_int, dotted_key, inconsistent, min_max_pair, rock_sizes,
+};
 use crate::error::ConfigError;
 use crate::landforms::corridor_field::MAX_FIELD_BOULDERS;
 
@@ -72,14 +74,12 @@ impl Default for WallBoulders {
 
 impl WallBoulders {
     fn validate(&self, prefix: &str) -> Result<(), ConfigError> {
-        min_max_pair(
+        rock_sizes(
             prefix,
-            ("diameter_min_m", self.diameter_min_m),
-            ("diameter_max_m", self.diameter_max_m),
-            Interval::closed(0.2, 10.0),
-        )?;
-        Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", self.height_ratio)?;
-        Ok(())
+            0.2,
+            [self.diameter_min_m, self.diameter_max_m],
+            self.height_ratio,
+        )
     }
 }
 

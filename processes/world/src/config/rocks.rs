@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{Interval, check_int, dotted_key, min_max_pair};
+use super::{Interval, check_int, dotted_key, min_max_pair, rock_sizes};
 use crate::error::ConfigError;
 
 /// Rock population: Golombek background, clusters and explicit rocks.
@@ -43,13 +43,12 @@ impl RockConfig {
     /// Checks the values under `prefix`.
     pub fn validate(&self, prefix: &str) -> Result<(), ConfigError> {
         Interval::closed(0.0, 0.5).check(prefix, "golombek_k", self.golombek_k)?;
-        min_max_pair(
+        rock_sizes(
             prefix,
-            ("diameter_min_m", self.diameter_min_m),
-            ("diameter_max_m", self.diameter_max_m),
-            Interval::closed(0.02, 10.0),
+            0.02,
+            [self.diameter_min_m, self.diameter_max_m],
+            self.height_ratio,
         )?;
-        Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", self.height_ratio)?;
         for (i, c) in self.clusters.iter().enumerate() {
             c.validate(&dotted_key(prefix, &format!("clusters[{i}]")))?;
         }
@@ -112,13 +111,12 @@ impl BoulderFieldConfig {
             Interval::closed(0.5, 50.0),
         )?;
         Interval::closed(0.0, 6.0).check(prefix, "opening_rad", self.opening_rad)?;
-        min_max_pair(
+        rock_sizes(
             prefix,
-            ("diameter_min_m", self.diameter_min_m),
-            ("diameter_max_m", self.diameter_max_m),
-            Interval::closed(0.1, 10.0),
+            0.1,
+            [self.diameter_min_m, self.diameter_max_m],
+            self.height_ratio,
         )?;
-        Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", self.height_ratio)?;
         Interval::closed(0.0, 100.0).check(prefix, "lateral_spread_m", self.lateral_spread_m)?;
         Ok(())
     }
@@ -163,14 +161,12 @@ impl RockClusterConfig {
         Interval::closed(0.0, 500.0).check(prefix, "half_extents_m[0]", self.half_extents_m[0])?;
         Interval::closed(0.0, 500.0).check(prefix, "half_extents_m[1]", self.half_extents_m[1])?;
         check_int(prefix, "count", u64::from(self.count), 0, 100_000)?;
-        min_max_pair(
+        rock_sizes(
             prefix,
-            ("diameter_min_m", self.diameter_min_m),
-            ("diameter_max_m", self.diameter_max_m),
-            Interval::closed(0.02, 10.0),
-        )?;
-        Interval::left_open(0.0, 2.0).check(prefix, "height_ratio", self.height_ratio)?;
-        Ok(())
+            0.02,
+            [self.diameter_min_m, self.diameter_max_m],
+            self.height_ratio,
+        )
     }
 }
 

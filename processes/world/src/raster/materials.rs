@@ -36,20 +36,63 @@ impl Shader for AtlasShader<'_> {
                 *op = c.sample() as u8;
             }
             iz += b.diz;
-            c.step();
+            c.uv.step();
         }
     }
 }
 
-/// Fixed-point (16.16) texture coordinates stepping along a block, for a clamped level whose
-/// block stays inside the texture (so no clamping per pixel).
-struct ClampRamp<'a> {
-    data: &'a [u8],
-    w: usize,
+/// Fixed-point (16.16) texture coordinates and their step per pixel along a block.
+#[derive(Debug, Clone, Copy)]
+struct FixedUv {
     u: i32,
     v: i32,
     du: i32,
     dv: i32,
+}
+
+impl FixedUv {
+    #[inline(always)]
+    fn new(u: f32, v: f32, du: f32, dv: f32) -> Self {
+        Self {
+            u: (u * 65536.0) as i32,
+            v: (v * 65536.0) as i32,
+            du: (du * 65536.0) as i32,
+            dv: (dv * 65536.0) as i32,
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self) {
+        // Wrapping: the block loop steps once past its last pixel, where a grazing view's
+        // step (tens of thousands of texels per pixel) leaves i32; that value is never sampled.
+        self.u = self.u.wrapping_add(self.du);
+        self.v = self.v.wrapping_add(self.dv);
+    }
+
+    /// Column and row of the texel at or before the coordinates.
+    #[inline(always)]
+    fn texel(&self) -> (usize, usize) {
+        ((self.u >> 16) as usize, (self.v >> 16) as usize)
+    }
+
+    /// Bilinear blend of texels `[t00, t01]` (row 0) and `[t10, t11]` (row 1) with the
+    /// fractions in bits 8..16 of the coordinates.
+    #[inline(always)]
+    fn blend(&self, [t00, t01]: [u32; 2], [t10, t11]: [u32; 2]) -> u32 {
+        let fx = ((self.u >> 8) & 0xff) as u32;
+        let fy = ((self.v >> 8) & 0xff) as u32;
+        let top = t00 * (256 - fx) + t01 * fx;
+        let bot = t10 * (256 - fx) + t11 * fx;
+        (top * (256 - fy) + bot * fy) >> 16
+    }
+}
+
+/// Texture coordinates stepping along a block, for a clamped level whose block stays inside
+/// the texture (so no clamping per pixel).
+struct ClampRamp<'a> {
+    data: &'a [u8],
+    w: usize,
+    uv: FixedUv,
 }
 
 impl<'a> ClampRamp<'a> {
@@ -67,41 +110,22 @@ impl<'a> ClampRamp<'a> {
         inside.then(|| Self {
             data: &l.data,
             w: l.width,
-            u: (u0 * 65536.0) as i32,
-            v: (v0 * 65536.0) as i32,
-            du: (du * 65536.0) as i32,
-            dv: (dv * 65536.0) as i32,
+            uv: FixedUv::new(u0, v0, du, dv),
         })
     }
 
-    #[inline(always)]
-    fn step(&mut self) {
-        // Wrapping: the block loop steps once past its last pixel, where a grazing view's
-        // step (tens of thousands of texels per pixel) leaves i32; that value is never sampled.
-        self.u = self.u.wrapping_add(self.du);
-        self.v = self.v.wrapping_add(self.dv);
-    }
-
-    /// Bilinear sample, 0..=255.
+    /// Bilinear sample, 0..=255; 0 where a texel would be out of range (instead of panicking).
     #[inline(always)]
     fn sample(&self) -> u32 {
-        let i = (self.v >> 16) as usize * self.w + (self.u >> 16) as usize;
-        bilerp_fixed(self.data, i, i + self.w, self.u, self.v)
+        let (x, y) = self.uv.texel();
+        let i0 = y * self.w + x;
+        let i1 = i0 + self.w;
+        let (Some(r0), Some(r1)) = (self.data.get(i0..i0 + 2), self.data.get(i1..i1 + 2)) else {
+            return 0;
+        };
+        let texels = |row: &[u8]| [u32::from(row[0]), u32::from(row[1])];
+        self.uv.blend(texels(r0), texels(r1))
     }
-}
-
-/// Bilinear blend of texels `[i0, i0+1]` (row 0) and `[i1, i1+1]` (row 1) with the fractions in
-/// bits 8..16 of the fixed-point coordinates; out-of-range indices give 0 instead of panicking.
-#[inline(always)]
-fn bilerp_fixed(d: &[u8], i0: usize, i1: usize, u: i32, v: i32) -> u32 {
-    let (Some(r0), Some(r1)) = (d.get(i0..i0 + 2), d.get(i1..i1 + 2)) else {
-        return 0;
-    };
-    let fx = ((u >> 8) & 0xff) as u32;
-    let fy = ((v >> 8) & 0xff) as u32;
-    let top = u32::from(r0[0]) * (256 - fx) + u32::from(r0[1]) * fx;
-    let bot = u32::from(r1[0]) * (256 - fx) + u32::from(r1[1]) * fx;
-    (top * (256 - fy) + bot * fy) >> 16
 }
 
 /// Fixed-point coordinates on a wrapping power-of-two level.
@@ -110,10 +134,7 @@ struct WrapRamp<'a> {
     w: usize,
     mx: usize,
     my: usize,
-    u: i32,
-    v: i32,
-    du: i32,
-    dv: i32,
+    uv: FixedUv,
 }
 
 impl<'a> WrapRamp<'a> {
@@ -131,33 +152,20 @@ impl<'a> WrapRamp<'a> {
             w: l.width,
             mx: l.width - 1,
             my: l.height - 1,
-            u: (u0 * 65536.0) as i32,
-            v: (v0 * 65536.0) as i32,
-            du: (du.clamp(-lim, lim) * 65536.0) as i32,
-            dv: (dv.clamp(-lim, lim) * 65536.0) as i32,
+            uv: FixedUv::new(u0, v0, du.clamp(-lim, lim), dv.clamp(-lim, lim)),
         }
     }
 
     #[inline(always)]
-    fn step(&mut self) {
-        self.u = self.u.wrapping_add(self.du);
-        self.v = self.v.wrapping_add(self.dv);
-    }
-
-    #[inline(always)]
     fn sample(&self) -> u32 {
-        let x0 = (self.u >> 16) as usize & self.mx;
-        let y0 = (self.v >> 16) as usize & self.my;
+        let (x, y) = self.uv.texel();
+        let (x0, y0) = (x & self.mx, y & self.my);
         let x1 = (x0 + 1) & self.mx;
         let y1 = (y0 + 1) & self.my;
-        let d = self.data;
         let (r0, r1) = (y0 * self.w, y1 * self.w);
-        let px = |i: usize| u32::from(d.get(i).copied().unwrap_or(0));
-        let fx = ((self.u >> 8) & 0xff) as u32;
-        let fy = ((self.v >> 8) & 0xff) as u32;
-        let top = px(r0 + x0) * (256 - fx) + px(r0 + x1) * fx;
-        let bot = px(r1 + x0) * (256 - fx) + px(r1 + x1) * fx;
-        (top * (256 - fy) + bot * fy) >> 16
+        let px = |i: usize| u32::from(self.data.get(i).copied().unwrap_or(0));
+        self.uv
+            .blend([px(r0 + x0), px(r0 + x1)], [px(r1 + x0), px(r1 + x1)])
     }
 }
 
@@ -195,8 +203,8 @@ impl Shader for AtlasDetailShader<'_> {
                 *op = ((c.sample() * d.sample()) >> 7).min(255) as u8;
             }
             iz += b.diz;
-            c.step();
-            d.step();
+            c.uv.step();
+            d.uv.step();
         }
     }
 }
@@ -253,7 +261,7 @@ impl Shader for RockShader<'_> {
                 *op = ((t.sample() * s.max(0) as u32) >> 8).min(255) as u8;
             }
             iz += b.diz;
-            t.step();
+            t.uv.step();
             s += ds;
         }
     }
@@ -304,6 +312,6 @@ mod tests {
         };
         let mut ramp = ClampRamp::new(texture.level(0), &block, 1).expect("inside");
         assert!(ramp.sample() > 0);
-        ramp.step();
+        ramp.uv.step();
     }
 }

@@ -154,8 +154,12 @@ fn main() -> Result<(), Box<dyn Error>> {
             continue;
         }
         counts.false_tall += 1;
-        counts.false_tall_depth_errors_percent.push(depth_error_percent);
-        counts.false_tall_patch_jump_percent.push(patch_jump_percent);
+        counts
+            .false_tall_depth_errors_percent
+            .push(depth_error_percent);
+        counts
+            .false_tall_patch_jump_percent
+            .push(patch_jump_percent);
         counts.false_tall_rock_gaps_m.push(
             sim.world
                 .rocks()
@@ -184,7 +188,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         }
         let estimated_true_frame = truth * output.world_from_body.inverse() * point.position_m;
         counts.false_tall_offsets_m.push(
-            (estimated_true_frame.x - true_surface.x).hypot(estimated_true_frame.y - true_surface.y),
+            (estimated_true_frame.x - true_surface.x)
+                .hypot(estimated_true_frame.y - true_surface.y),
         );
     }
     print(&counts);

@@ -87,7 +87,8 @@ impl ChildProcess {
         };
         let write_fd = pipe.as_ref().map_or(-1, |pipe| pipe.write_fd);
         // SAFETY: the closure runs in the forked child before exec and calls only
-        // async-signal-safe functions (prctl, getppid, sched_setscheduler, fcntl, dup2, _exit);
+        // async-signal-safe functions (prctl, getppid, setsid, sched_setscheduler, fcntl, dup2,
+        // _exit);
         // it touches no allocator or lock.
         unsafe {
             command.pre_exec(move || {
@@ -98,6 +99,14 @@ impl ChildProcess {
                 if libc::getppid() != parent_pid {
                     libc::_exit(1);
                 }
+                // A session of its own: where the kernel groups CPU shares by session
+                // (autogroup, the default on desktop kernels), each process of the graph then
+                // weighs as much as the whole session that launched it, so a busy shell or
+                // build beside the launch cannot crowd the frame out. It cannot fail in a
+                // freshly forked child (not a group leader); if it did, the child would run
+                // in the launcher's session as before. Ctrl-C reaches only the supervisor,
+                // which stops the graph.
+                libc::setsid();
                 // A standby starts (exec, loading, preparing) at idle priority, so it never
                 // takes CPU from the running graph; promotion restores the normal policy.
                 if standby {
@@ -261,5 +270,40 @@ fn restore_normal_priority(pid: u32) {
         unsafe {
             libc::sched_setscheduler(tid, libc::SCHED_OTHER, &param);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    #[test]
+    fn a_child_runs_in_a_session_of_its_own() {
+        // A stand-in for the hopnav executable that ignores its arguments and waits.
+        let dir = std::env::temp_dir().join(format!("hopnav-child-session-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let script = dir.join("fake-hopnav");
+        std::fs::write(&script, "#!/bin/sh\nexec sleep 30\n").unwrap();
+        std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let spec = ChildSpec {
+            executable: &script,
+            name: "mapper",
+            run_id: "session-test",
+            slot: 0,
+            incarnation: 0,
+            config_path: &dir,
+            heartbeat_period_ms: 100,
+            faults_env: None,
+            standby: false,
+        };
+        let child = ChildProcess::spawn(&spec).unwrap();
+        let pid = child.pid() as libc::pid_t;
+        // SAFETY: getsid only reads the session id of a process.
+        let (ours, its) = unsafe { (libc::getsid(0), libc::getsid(pid)) };
+        child.kill_and_reap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(its, pid, "the child leads its own session");
+        assert_ne!(its, ours);
     }
 }

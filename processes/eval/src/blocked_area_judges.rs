@@ -35,21 +35,21 @@ pub fn judge_blocked_area(truth: &MissionTruth, record: &MissionRecord) -> Block
     let (Some(map), Some(rocks)) = (record.map.as_ref(), truth.rock_outlines.as_deref()) else {
         return BlockedAreaJudgements::default();
     };
-    let judge = |reach: &Reach<'_>, to_world: &dyn Fn([f64; 2]) -> [f64; 2]| {
-        judge_map(truth, map, reach, rocks, to_world)
+    let world_cells = map_cells(map, |xy| xy);
+    let judge = |cells: &[MapCell], reach: &Reach<'_>| {
+        judge_cells(truth, cells, map.cell_size_m, reach, rocks)
     };
-    let in_world = |xy: [f64; 2]| xy;
     let seen = seen_cells(truth, record);
     let in_sight = seen
         .as_ref()
-        .map(|seen| judge(&Reach::InSight(seen), &in_world));
+        .map(|seen| judge(&world_cells, &Reach::InSight(seen)));
     let in_sight_map_frame = seen.as_ref().and_then(|seen| {
         let onto_truth = rover_vo_alignment(record)?;
-        let to_world = move |[x, y]: [f64; 2]| {
+        let carried = map_cells(map, |[x, y]| {
             let p = onto_truth.apply(&Point3::new(x, y, 0.0));
             [p.x, p.y]
-        };
-        Some(judge(&Reach::InSight(seen), &to_world))
+        });
+        Some(judge(&carried, &Reach::InSight(seen)))
     });
     let in_view = truth.rover_camera.map(|camera| {
         let views = rover_camera_views(record, &camera);
@@ -57,14 +57,14 @@ pub fn judge_blocked_area(truth: &MissionTruth, record: &MissionRecord) -> Block
             views: &views,
             half_fov_rad: camera.half_fov_rad,
         };
-        judge(&reach, &in_world)
+        judge(&world_cells, &reach)
     });
     let track_m: Vec<[f64; 2]> = record.rover_track_m.iter().map(|&(x, y)| [x, y]).collect();
     BlockedAreaJudgements {
         in_sight,
         in_view,
         in_sight_map_frame,
-        near_track: Some(judge(&Reach::NearTrack(&track_m), &in_world)),
+        near_track: Some(judge(&world_cells, &Reach::NearTrack(&track_m))),
     }
 }
 
@@ -116,18 +116,11 @@ fn ground_plane_alignment(pairs: &[(u64, Isometry3<f64>, Isometry3<f64>)]) -> Op
     umeyama(&estimate, &truth, false)
 }
 
-/// The final map's lethal ground near the rover's track against the rocks', each map cell's
-/// centre carried into the world's frame by `to_world`.
-fn judge_map(
-    truth: &MissionTruth,
-    map: &RecordedMap,
-    reach: &Reach<'_>,
-    rocks: &[RockOutline],
-    to_world: &dyn Fn([f64; 2]) -> [f64; 2],
-) -> BlockedArea {
+/// The final map's known cells as the judge needs them, each centre carried into the world's
+/// frame by `to_world`.
+fn map_cells(map: &RecordedMap, to_world: impl Fn([f64; 2]) -> [f64; 2]) -> Vec<MapCell> {
     let size_m = map.cell_size_m;
-    let cells: Vec<MapCell> = map
-        .cells
+    map.cells
         .iter()
         .filter(|cell| cell.class != CellClass::Unknown)
         .map(|cell| MapCell {
@@ -140,12 +133,23 @@ fn judge_map(
             costly: cell.extra_cost > 0,
             unobserved: cell.observed_by == 0,
         })
-        .collect();
+        .collect()
+}
+
+/// The lethal ground of `cells` (a grid of `cell_size_m`) that `reach` covers, against the
+/// rocks' and the truly too-steep ground.
+fn judge_cells(
+    truth: &MissionTruth,
+    cells: &[MapCell],
+    cell_size_m: f64,
+    reach: &Reach<'_>,
+    rocks: &[RockOutline],
+) -> BlockedArea {
     blocked_area(
-        &cells,
+        cells,
         rocks,
         reach,
-        size_m,
+        cell_size_m,
         truth.climbable_height_m,
         truth.inscribed_m,
         |centre_m| {

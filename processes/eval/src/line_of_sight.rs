@@ -159,24 +159,15 @@ impl SeenCells {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jumper_vo::truth_surface::tests::flat_config_with_a_rock;
     use hopnav_robot::camera::{CameraMount, CameraRig};
-    use hopnav_world::WorldConfig;
-    use hopnav_world::config::ExplicitRockConfig;
 
     /// A flat 16 m world with one rock 0.6 m tall and 1 m across, 3 m ahead of the origin.
     fn world_with_a_rock() -> World {
-        let mut config = WorldConfig::default();
+        let mut config = flat_config_with_a_rock([3.0, 0.0], 0.6);
         config.terrain.size_x_m = 16.0;
         config.terrain.size_y_m = 16.0;
-        config.terrain.relief_amplitude_m = 0.0;
         config.texture.texel_m = 0.5;
-        config.craters.count = 0;
-        config.rocks.golombek_k = 0.0;
-        config.rocks.explicit = vec![ExplicitRockConfig {
-            center_m: [3.0, 0.0],
-            diameter_m: 1.0,
-            height_m: Some(0.6),
-        }];
         World::generate(&config).expect("a valid flat world")
     }
 

@@ -96,9 +96,12 @@ impl Bands<'_> {
         let centre = disparity.round() as isize;
         let lo = (centre - HALF_SEARCH_PX).max(d_range.0);
         let hi = (centre + HALF_SEARCH_PX).min(d_range.1);
+        // Each candidate's score, kept for the parabola around the best.
+        let mut scores = [0.0f32; 2 * HALF_SEARCH_PX as usize + 1];
         let mut best: Option<(f32, isize)> = None;
         for d in lo..=hi {
             let score = self.score(part, xl, d)?;
+            scores[(d - lo) as usize] = score;
             if best.is_none_or(|(best_score, _)| score > best_score) {
                 best = Some((score, d));
             }
@@ -108,12 +111,8 @@ impl Bands<'_> {
             // The half matches best at least this far from the whole: no parabola needed.
             return Some(d as f64);
         }
-        let offset = parabola(
-            self.score(part, xl, d - 1)?,
-            score,
-            self.score(part, xl, d + 1)?,
-        );
-        Some(d as f64 + offset)
+        let at = (d - lo) as usize;
+        Some(d as f64 + parabola(scores[at - 1], score, scores[at + 1]))
     }
 
     /// The larger of the disparity gaps between the left and right halves and between the top

@@ -168,18 +168,24 @@ pub(crate) mod tests {
     use hopnav_world::WorldConfig;
     use hopnav_world::config::ExplicitRockConfig;
 
-    /// Flat ground at z = 0, no random rocks or craters, one 0.4 m rock at (0, 0).
-    pub(crate) fn flat_world_with_a_rock() -> World {
+    /// Flat ground at z = 0, no random rocks or craters, one rock 1 m across and `height_m`
+    /// tall at `center_m`.
+    pub(crate) fn flat_config_with_a_rock(center_m: [f64; 2], height_m: f64) -> WorldConfig {
         let mut config = WorldConfig::default();
         config.terrain.relief_amplitude_m = 0.0;
         config.craters.count = 0;
         config.rocks.golombek_k = 0.0;
         config.rocks.explicit = vec![ExplicitRockConfig {
-            center_m: [0.0, 0.0],
+            center_m,
             diameter_m: 1.0,
-            height_m: Some(0.4),
+            height_m: Some(height_m),
         }];
-        World::generate(&config).unwrap()
+        config
+    }
+
+    /// Flat ground at z = 0, no random rocks or craters, one 0.4 m rock at (0, 0).
+    pub(crate) fn flat_world_with_a_rock() -> World {
+        World::generate(&flat_config_with_a_rock([0.0, 0.0], 0.4)).unwrap()
     }
 
     #[test]

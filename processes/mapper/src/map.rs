@@ -10,6 +10,7 @@
 use hopnav_ipc::messages::{CellClass, CellUpdate, Robot};
 use serde::{Deserialize, Serialize};
 
+use crate::belief::CellBelief;
 use crate::cell::{CellStats, LOW_POINTS};
 use crate::config::{MapperConfig, ObstacleModel};
 use crate::dirty::DirtySet;
@@ -146,6 +147,11 @@ pub struct FeatureMap {
     reclassify: DirtySet,
     restate: DirtySet,
     changed: DirtySet,
+    /// Cells whose statistics or belief changed since [`Self::refresh_copy`] last copied them
+    /// (besides those still in `touched`).
+    unsaved: DirtySet,
+    /// Every cell is unsaved: nothing copied yet, or the whole map was restored.
+    unsaved_whole: bool,
     ground: GroundScratch,
     counters: MapCounters,
     /// Number of the cloud being inserted (cells count each cloud's vote once).
@@ -200,6 +206,8 @@ impl FeatureMap {
             reclassify: DirtySet::new(cells),
             restate: DirtySet::new(cells),
             changed: DirtySet::new(cells),
+            unsaved: DirtySet::new(cells),
+            unsaved_whole: true,
             ground: GroundScratch::with_capacity(window * LOW_POINTS),
             counters: MapCounters::default(),
             cloud_sequence: 0,
@@ -258,6 +266,7 @@ impl FeatureMap {
         let reach = self.thresholds.ground_reach_cells;
         for &index in self.touched.as_slice() {
             let index = index as usize;
+            self.unsaved.insert(index);
             self.reclassify.insert(index);
             if let Some(domes) = self.domes.as_mut() {
                 // Rays may have refuted the cell's points: its rock is fitted again.
@@ -395,7 +404,7 @@ impl FeatureMap {
             + (self.state.capacity() + self.published.capacity()) * size_of::<CellState>()
             + self.beliefs.as_ref().map_or(0, BeliefLayer::memory_bytes)
             + self.domes.as_ref().map_or(0, DomeLayer::memory_bytes);
-        let sets = 4 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
+        let sets = 5 * self.geometry.cell_count() * (size_of::<bool>() + size_of::<u32>());
         cells + sets + self.ground.samples.capacity() * 5 * size_of::<f64>()
     }
 
@@ -403,10 +412,57 @@ impl FeatureMap {
         &self.stats
     }
 
-    pub(crate) fn set_beliefs(&mut self, beliefs: &[crate::belief::CellBelief]) {
+    pub(crate) fn set_beliefs(&mut self, beliefs: &[CellBelief]) {
         if let Some(layer) = self.beliefs.as_mut() {
             layer.set_beliefs(beliefs);
         }
+        self.unsaved_whole = true;
+    }
+
+    /// Brings a copy of the cells' statistics and beliefs up to date, copying only the cells
+    /// changed since the last call (every cell on the first call, after a restore, or when
+    /// `whole`: a copy this map did not fill before). Beliefs are copied only when `beliefs`
+    /// is as long as the map's. False, with nothing copied, when `stats` is not as long as
+    /// the map's: then the next call copies everything again.
+    ///
+    /// The whole grid is megabytes, and the frame that copies it all overruns its budget.
+    pub(crate) fn refresh_copy(
+        &mut self,
+        stats: &mut [CellStats],
+        beliefs: &mut [CellBelief],
+        whole: bool,
+    ) -> bool {
+        if stats.len() != self.stats.len() {
+            self.unsaved_whole = true;
+            return false;
+        }
+        let layer = self
+            .beliefs
+            .as_ref()
+            .map(BeliefLayer::beliefs)
+            .filter(|layer| layer.len() == beliefs.len());
+        if whole || self.unsaved_whole {
+            stats.copy_from_slice(&self.stats);
+            if let Some(layer) = layer {
+                beliefs.copy_from_slice(layer);
+            }
+        } else {
+            for &index in self
+                .unsaved
+                .as_slice()
+                .iter()
+                .chain(self.touched.as_slice())
+            {
+                let index = index as usize;
+                stats[index] = self.stats[index];
+                if let Some(layer) = layer {
+                    beliefs[index] = layer[index];
+                }
+            }
+        }
+        self.unsaved.clear();
+        self.unsaved_whole = false;
+        true
     }
 
     pub(crate) fn set_dome_points(&mut self, cells: &[(u32, crate::dome_layer::CellPoints)]) {
@@ -418,6 +474,7 @@ impl FeatureMap {
     pub(crate) fn set_stats(&mut self, stats: &[CellStats], counters: MapCounters) {
         self.stats.copy_from_slice(stats);
         self.counters = counters;
+        self.unsaved_whole = true;
         for index in 0..self.stats.len() {
             if self.stats[index].count > 0 {
                 self.touched.insert(index);

@@ -243,7 +243,7 @@ impl MapperProcess {
             return;
         };
         let due = every > 0 && (force || self.frames.is_multiple_of(every));
-        if due && self.changed_since_snapshot && writer.request(&self.map) {
+        if due && self.changed_since_snapshot && writer.request(&mut self.map) {
             self.changed_since_snapshot = false;
         }
     }

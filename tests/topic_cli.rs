@@ -1,7 +1,7 @@
-//! `hopnav topic list` and `hopnav topic hz` against a running lockstep launch: the camera and
-//! pose topics are listed with their types and processes, and `hz` receives samples. What
-//! is checked is behaviour (names, types, samples > 0), never a rate: the machine may be
-//! loaded.
+//! `hopnav topic list`, `hz`, `bw` and `hopnav top` against a running lockstep launch: the
+//! camera and pose topics are listed with their types and processes, `hz` receives samples,
+//! `bw` their sizes and `top` every process's heartbeats. What is checked is behaviour (names, types, samples > 0, sizes), never a
+//! rate: the machine may be loaded.
 
 mod common;
 
@@ -142,6 +142,50 @@ fn topic_list_and_hz_see_a_running_lockstep_launch() {
     assert!(samples > 0, "{hz_text}");
     assert!(summary.contains("rejected 0"), "{hz_text}");
 
+    // Every jumper image is 102 560 bytes (the list's figure), so `bw` sees exactly that.
+    let bw = topic(&[
+        "bw",
+        "camera/jumper",
+        "--run",
+        &launch.run_id,
+        "--duration-s",
+        "3",
+    ]);
+    let bw_text = text(&bw);
+    assert!(bw.status.success(), "{bw_text}");
+    let stdout = String::from_utf8_lossy(&bw.stdout);
+    let summary = stdout.lines().last().unwrap_or_default();
+    assert!(
+        summary.contains("mean 100.16 KiB min 100.16 KiB max 100.16 KiB per sample"),
+        "{bw_text}"
+    );
+    assert!(summary.contains("rejected 0"), "{bw_text}");
+
+    // `top` names every process from its heartbeats and its budget from the launch's config.
+    let top = hopnav()
+        .args([
+            "top",
+            "--run",
+            &launch.run_id,
+            "--duration-s",
+            "3",
+            "--no-redraw",
+        ])
+        .output()
+        .expect("run hopnav top");
+    let top_text = text(&top);
+    assert!(top.status.success(), "{top_text}");
+    let stdout = String::from_utf8_lossy(&top.stdout);
+    let mapper = stdout
+        .lines()
+        .rev()
+        .find(|line| line.starts_with("mapper "))
+        .unwrap_or_else(|| panic!("no mapper row\n{top_text}"));
+    assert!(
+        mapper.contains(" 15.00 "),
+        "the mapper's budget: {top_text}"
+    );
+
     // A name the launch does not have is a usage error that lists the topics it has.
     let unknown = topic(&["hz", "hopnav/camera/nothing", "--run", &launch.run_id]);
     assert_eq!(unknown.status.code(), Some(2), "{}", text(&unknown));
@@ -175,11 +219,17 @@ fn topic_list_and_hz_see_a_running_lockstep_launch() {
 
 #[test]
 fn a_run_that_is_not_running_is_named() {
-    let output = topic(&["list", "--run", "no-such-run-4242"]);
-    assert_eq!(output.status.code(), Some(2), "{}", text(&output));
-    assert!(
-        String::from_utf8_lossy(&output.stderr).contains("no-such-run-4242"),
-        "{}",
-        text(&output)
-    );
+    let list = topic(&["list", "--run", "no-such-run-4242"]);
+    let top = hopnav()
+        .args(["top", "--run", "no-such-run-4242"])
+        .output()
+        .expect("run hopnav top");
+    for output in [list, top] {
+        assert_eq!(output.status.code(), Some(2), "{}", text(&output));
+        assert!(
+            String::from_utf8_lossy(&output.stderr).contains("no-such-run-4242"),
+            "{}",
+            text(&output)
+        );
+    }
 }

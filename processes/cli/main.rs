@@ -25,9 +25,14 @@ mod registry;
 mod rover_vo_cmd;
 mod run_cmd;
 mod setup;
+mod text_table;
+mod top_cmd;
+mod top_table;
+mod topic_bw;
 mod topic_cmd;
 mod topic_echo;
 mod topic_hz;
+mod topic_window;
 
 use std::process::ExitCode;
 
@@ -67,9 +72,12 @@ enum Command {
     /// library's defaults): every key a config file may override, with its value.
     Defaults(defaults_cmd::DefaultsArgs),
     /// Look at the topics of a running launch: list them with their types, processes and
-    /// sizes, measure one's rate, or print its samples (`--run ID` when several launches run).
+    /// sizes, measure one's rate or bandwidth, or print its samples (`--run ID` when several launches run).
     #[command(subcommand)]
     Topic(topic_cmd::TopicCommand),
+    /// The processes of a running launch, live: CPU, memory, frame time p50/p99 against
+    /// each one's budget, budget misses and restarts (`--run ID` when several launches run).
+    Top(top_cmd::TopArgs),
 }
 
 /// Exit code for a bad configuration or usage, as documented in the README.
@@ -89,5 +97,6 @@ fn main() -> ExitCode {
         Command::Chaos(args) => chaos_cmd::run(args),
         Command::Defaults(args) => defaults_cmd::run(args),
         Command::Topic(command) => topic_cmd::run(command),
+        Command::Top(args) => top_cmd::run(&args),
     }
 }

@@ -10,6 +10,8 @@ use hopnav_ipc::live::{self, KnownTopic, LiveError, RunSelectError, TopicRow};
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::transport::OpenError;
 
+use crate::text_table::align_columns;
+use crate::topic_bw::{self, BwArgs};
 use crate::topic_echo::{self, EchoArgs};
 use crate::topic_hz::{self, HzArgs};
 
@@ -22,6 +24,10 @@ pub enum TopicCommand {
     /// Receive rate of one topic, printed every second (mean rate over the window, min and
     /// max period, spread), as an extra subscriber that never holds the launch back.
     Hz(HzArgs),
+    /// Bandwidth of one topic, printed every second: bytes per second over the window, mean,
+    /// smallest and largest sample (the bytes a sample occupies in shared memory, which a
+    /// bridge or a recorder of the topic would have to carry).
+    Bw(BwArgs),
     /// Print the samples of one topic as they arrive: every field of small messages (poses,
     /// commands), the header and size of images, clouds and maps.
     Echo(EchoArgs),
@@ -45,6 +51,7 @@ pub fn run(command: TopicCommand) -> ExitCode {
     match command {
         TopicCommand::List(args) => list(&args),
         TopicCommand::Hz(args) => topic_hz::run(&args),
+        TopicCommand::Bw(args) => topic_bw::run(&args),
         TopicCommand::Echo(args) => topic_echo::run(&args),
     }
 }
@@ -174,34 +181,7 @@ fn list_table(rows: &[TopicRow]) -> String {
                 .map_or_else(|| "?".to_owned(), |bytes| bytes.to_string()),
         ]);
     }
-    let widths: Vec<usize> = (0..6)
-        .map(|column| {
-            lines
-                .iter()
-                .map(|line| line[column].chars().count())
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let mut table = String::new();
-    for line in &lines {
-        let cells: Vec<String> = line
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(column, (cell, &width))| {
-                let pad = width.saturating_sub(cell.chars().count());
-                if column == 5 {
-                    format!("{}{cell}", " ".repeat(pad))
-                } else {
-                    format!("{cell}{}", " ".repeat(pad))
-                }
-            })
-            .collect();
-        table.push_str(cells.join("  ").trim_end());
-        table.push('\n');
-    }
-    table
+    align_columns(&lines, |column| column == 5)
 }
 
 #[cfg(test)]

@@ -2,72 +2,41 @@
 
 use std::ops::ControlFlow;
 use std::process::ExitCode;
-use std::time::Duration;
 
 use clap::Args;
-use hopnav_ipc::live::{self, ArrivalWindow, RateStats, RateTotals, TapSample, WatchEnd, Watcher};
+use hopnav_ipc::live::{ArrivalWindow, RateStats, RateTotals, TapSample, Watcher};
 
-use crate::topic_cmd::{RunChoice, watch_failed};
+use crate::topic_window::{WindowArgs, continue_until, exit_code, watch_topic};
 
 #[derive(Debug, Args)]
 pub struct HzArgs {
     /// Topic name, e.g. hopnav/camera/jumper (the hopnav/ prefix may be left out).
     topic: String,
-    /// Seconds of arrivals the printed rate covers.
-    #[arg(long, default_value_t = 10.0, value_parser = positive_seconds)]
-    window_s: f64,
-    /// Stop after this many seconds (default: until Ctrl-C or the launch ends).
-    #[arg(long, value_parser = positive_seconds)]
-    duration_s: Option<f64>,
     #[command(flatten)]
-    run: RunChoice,
-}
-
-fn positive_seconds(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(seconds) if seconds.is_finite() && seconds > 0.0 && seconds <= 1e6 => Ok(seconds),
-        _ => Err(format!("{text:?} is not a number of seconds in (0, 1e6]")),
-    }
+    window: WindowArgs,
 }
 
 pub fn run(args: &HzArgs) -> ExitCode {
-    let (namespace, topic) = match args.run.topic(&args.topic) {
-        Ok(found) => found,
-        Err(code) => return code,
-    };
-    let name = topic.spec.name.to_string();
-    let started_ns = hopnav_ipc::stamp::monotonic_now_ns();
-    let mut meter = RateMeter {
-        window: ArrivalWindow::new(seconds_to_ns(args.window_s)),
-        window_s: args.window_s,
+    let watched = match watch_topic(&args.window, &args.topic, |started_ns| RateMeter {
+        window: ArrivalWindow::new(args.window.window_ns()),
+        window_s: args.window.window_s,
         received: RateTotals::default(),
         published: RateTotals::default(),
-        stop_ns: args
-            .duration_s
-            .map(|duration_s| started_ns + seconds_to_ns(duration_s)),
+        stop_ns: args.window.stop_ns(started_ns),
+    }) {
+        Ok(watched) => watched,
+        Err(code) => return code,
     };
-    eprintln!("subscribed to {name} in launch {}", namespace.run_id());
-    let watched = live::watch(&namespace, &topic, Duration::from_secs(1), &mut meter);
-    let (end, rejected) = match watched {
-        Ok(result) => result,
-        Err(error) => return watch_failed(&namespace, &args.topic, error),
-    };
-    let elapsed_s = hopnav_ipc::stamp::elapsed_since_ns(started_ns) as f64 * 1e-9;
+    let (meter, elapsed_s) = (&watched.watcher, watched.elapsed_s);
     println!(
-        "{name}: {} samples in {elapsed_s:.1} s; {}; by publish stamps: {}; rejected {}",
+        "{}: {} samples in {elapsed_s:.1} s; {}; by publish stamps: {}; rejected {}",
+        watched.name,
         meter.received.samples(),
         total_text(meter.received.stats()),
         total_text(meter.published.stats()),
-        rejected.total()
+        watched.rejected.total()
     );
-    match end {
-        WatchEnd::Stopped => ExitCode::SUCCESS,
-        WatchEnd::LaunchEnded => {
-            eprintln!("launch {} ended", namespace.run_id());
-            ExitCode::SUCCESS
-        }
-        WatchEnd::Interrupted => ExitCode::from(crate::EXIT_INTERRUPTED),
-    }
+    exit_code(&watched.namespace, watched.end)
 }
 
 /// The arrivals of one watch: the window printed every second and the totals at the end.
@@ -89,16 +58,8 @@ impl Watcher for RateMeter {
 
     fn on_tick(&mut self, now_ns: u64) -> ControlFlow<()> {
         println!("{}", window_line(self.window.stats(now_ns), self.window_s));
-        if self.stop_ns.is_some_and(|stop_ns| now_ns >= stop_ns) {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
+        continue_until(self.stop_ns, now_ns)
     }
-}
-
-fn seconds_to_ns(seconds: f64) -> u64 {
-    (seconds * 1e9) as u64
 }
 
 /// The line printed every second, like `ros2 topic hz`.
@@ -132,17 +93,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn seconds_must_be_positive() {
-        assert_eq!(positive_seconds("2.5"), Ok(2.5));
-        assert!(positive_seconds("0").is_err());
-        assert!(positive_seconds("-1").is_err());
-        assert!(positive_seconds("nan").is_err());
-    }
-
-    #[test]
     fn the_line_says_when_there_is_no_rate() {
         assert!(window_line(None, 10.0).contains("fewer than 2 samples"));
-        let stats = live::rate_stats(&[0, 100_000_000, 200_000_000]);
+        let stats = hopnav_ipc::live::rate_stats(&[0, 100_000_000, 200_000_000]);
         let line = window_line(stats, 10.0);
         assert!(line.starts_with("average rate: 10.000 Hz"), "{line}");
     }

@@ -4,17 +4,19 @@
 //! Nothing here creates a topic, takes history, or takes a subscriber slot that is not free:
 //! a tool must never change what the graph does.
 
+mod bandwidth;
 mod catalog;
 mod census;
 mod rate;
 mod runs;
 mod tap;
 
+pub use bandwidth::{BandwidthStats, ByteTotals, ByteWindow, human_bytes};
 pub use catalog::{KindVisitor, KnownTopic, MessageKind, known_topic};
 pub use census::{TopicRow, topic_census};
 pub use rate::{ArrivalWindow, RateStats, RateTotals, rate_stats};
 pub use runs::{RunSelectError, find_launch, is_running, running_launches, select_run};
-pub use tap::{TapSample, WatchEnd, Watcher, watch};
+pub use tap::{TapSample, WatchEnd, Watcher, fixed_message, watch};
 
 /// Why a look at a running launch failed.
 #[derive(Debug, thiserror::Error)]

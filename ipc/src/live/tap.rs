@@ -29,6 +29,20 @@ pub trait TapSample {
     /// A readable rendering: every field of a message; the header and the element count of
     /// a slice (images and clouds are summarised, not dumped).
     fn describe(&self) -> String;
+    /// Bytes the sample occupies in shared memory: the message, or the header and its
+    /// elements (what a transport that copied it would move).
+    fn payload_bytes(&self) -> usize;
+    /// The sample itself, for [`fixed_message`].
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+/// The message of a sample of a fixed-size topic of type `M` (`None` for another type or a
+/// slice topic): for tools that read a message's fields, not only its rendering.
+pub fn fixed_message<M: Message + 'static>(sample: &dyn TapSample) -> Option<&M> {
+    sample
+        .as_any()
+        .downcast_ref::<FixedSample<M>>()
+        .map(|fixed| &fixed.0)
 }
 
 /// Why a watch ended.
@@ -135,6 +149,14 @@ impl<M: Message> TapSample for FixedSample<M> {
     fn describe(&self) -> String {
         format!("{:#?}", self.0)
     }
+
+    fn payload_bytes(&self) -> usize {
+        std::mem::size_of::<M>()
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
 }
 
 impl<H: SliceHeader + ZeroCopySend> TapSample for ValidSlice<H>
@@ -154,6 +176,14 @@ where
             self.elements().len(),
             std::mem::size_of_val(self.elements())
         )
+    }
+
+    fn payload_bytes(&self) -> usize {
+        std::mem::size_of::<H>() + std::mem::size_of_val(self.elements())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

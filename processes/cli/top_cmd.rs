@@ -1,0 +1,225 @@
+//! `hopnav top`: the processes of a running launch, live: CPU, memory, frame time p50/p99
+//! against each one's budget, budget misses and restarts, refreshed every second.
+//!
+//! It listens to the heartbeats every process publishes (an extra subscriber that never
+//! holds the launch back) and reads the rest from `/proc`.
+
+use std::collections::HashMap;
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Args;
+use hopnav_ipc::live::{self, TapSample, Watcher, fixed_message};
+use hopnav_ipc::messages::Heartbeat;
+use hopnav_ipc::topics;
+
+use crate::top_table::{Identify, ProcSample, ProcessTable};
+use crate::topic_cmd::watch_failed;
+use crate::topic_window::{WindowArgs, continue_until, exit_code};
+
+#[derive(Debug, Args)]
+pub struct TopArgs {
+    #[command(flatten)]
+    window: WindowArgs,
+    /// Print each refresh below the last instead of redrawing the screen (the default when
+    /// the output is not a terminal).
+    #[arg(long)]
+    no_redraw: bool,
+}
+
+pub fn run(args: &TopArgs) -> ExitCode {
+    let (namespace, topic) = match args.window.run.topic(&topics::HEARTBEAT.name) {
+        Ok(found) => found,
+        Err(code) => return code,
+    };
+    let started_ns = hopnav_ipc::stamp::monotonic_now_ns();
+    let mut monitor = Monitor {
+        table: ProcessTable::new(args.window.window_ns()),
+        identities: ProcIdentities::default(),
+        run_id: namespace.run_id().to_owned(),
+        redraw: !args.no_redraw && std::io::stdout().is_terminal(),
+        started_ns,
+        stop_ns: args.window.stop_ns(started_ns),
+    };
+    let watched = live::watch(&namespace, &topic, Duration::from_secs(1), &mut monitor);
+    let (end, rejected) = match watched {
+        Ok(result) => result,
+        Err(error) => return watch_failed(&namespace, &topic.spec.name, error),
+    };
+    if rejected.total() > 0 {
+        eprintln!("{} heartbeats rejected", rejected.total());
+    }
+    exit_code(&namespace, end)
+}
+
+struct Monitor {
+    table: ProcessTable,
+    identities: ProcIdentities,
+    run_id: String,
+    redraw: bool,
+    started_ns: u64,
+    stop_ns: Option<u64>,
+}
+
+impl Watcher for Monitor {
+    fn on_sample(&mut self, sample: &dyn TapSample, arrival_ns: u64) {
+        if let Some(heartbeat) = fixed_message::<Heartbeat>(sample) {
+            self.table
+                .on_heartbeat(heartbeat, arrival_ns, &mut self.identities);
+        }
+    }
+
+    fn on_tick(&mut self, now_ns: u64) -> ControlFlow<()> {
+        self.table.refresh(now_ns, &mut read_proc);
+        if self.redraw {
+            // Clear the screen and home the cursor, as top does.
+            print!("\x1b[2J\x1b[H");
+        }
+        let elapsed_s = now_ns.saturating_sub(self.started_ns) as f64 * 1e-9;
+        println!(
+            "launch {}: {elapsed_s:.0} s watched (OVER: frames over budget / frames seen; \
+             RESTARTS: starts of the slot before this one)",
+            self.run_id
+        );
+        print!("{}", self.table.render(now_ns, 2_000_000_000));
+        if !self.redraw {
+            println!();
+        }
+        continue_until(self.stop_ns, now_ns)
+    }
+}
+
+/// Names and budgets from each process's command line (`hopnav run NAME … --config FILE`)
+/// and the launch's resolved configuration file; each file is read once.
+#[derive(Default)]
+struct ProcIdentities {
+    budgets_by_config: HashMap<PathBuf, Option<HashMap<String, f64>>>,
+}
+
+impl Identify for ProcIdentities {
+    fn identify(&mut self, pid: u32) -> (Option<String>, Option<u64>) {
+        let Ok(cmdline) = std::fs::read(format!("/proc/{pid}/cmdline")) else {
+            return (None, None);
+        };
+        let args: Vec<String> = cmdline
+            .split(|&byte| byte == 0)
+            .map(|arg| String::from_utf8_lossy(arg).into_owned())
+            .collect();
+        let (name, config) = name_and_config(&args);
+        let budget_ns = match (&name, config) {
+            (Some(name), Some(config)) => self
+                .budgets_by_config
+                .entry(config.clone())
+                .or_insert_with(|| budgets(&config))
+                .as_ref()
+                .and_then(|budgets| budgets.get(name))
+                .map(|budget_ms| (budget_ms * 1e6) as u64),
+            _ => None,
+        };
+        (name, budget_ns)
+    }
+}
+
+/// The process name after `run` and the file after `--config` in a child's arguments.
+fn name_and_config(args: &[String]) -> (Option<String>, Option<PathBuf>) {
+    let after = |flag: &str| {
+        args.iter()
+            .position(|arg| arg == flag)
+            .and_then(|at| args.get(at + 1))
+    };
+    (after("run").cloned(), after("--config").map(PathBuf::from))
+}
+
+/// Every process's frame budget in the configuration file at `path` (none if unreadable).
+fn budgets(path: &Path) -> Option<HashMap<String, f64>> {
+    let config = hopnav_config::load_file(path).ok()?;
+    Some(
+        config
+            .processes
+            .into_iter()
+            .map(|(name, process)| (name, process.budget_ms))
+            .collect(),
+    )
+}
+
+/// CPU time (`/proc/PID/schedstat`, nanoseconds on the CPU) and resident memory
+/// (`/proc/PID/status`, VmRSS) of `pid`; what cannot be read stays unknown.
+fn read_proc(pid: u32) -> ProcSample {
+    let cpu_ns = std::fs::read_to_string(format!("/proc/{pid}/schedstat"))
+        .ok()
+        .and_then(|text| text.split_whitespace().next()?.parse().ok());
+    let resident_bytes = std::fs::read_to_string(format!("/proc/{pid}/status"))
+        .ok()
+        .and_then(|text| vm_rss_bytes(&text));
+    ProcSample {
+        cpu_ns,
+        resident_bytes,
+    }
+}
+
+/// The `VmRSS:` line of a `/proc/PID/status` text, in bytes.
+fn vm_rss_bytes(status: &str) -> Option<u64> {
+    let line = status.lines().find(|line| line.starts_with("VmRSS:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_childs_name_and_config_come_from_its_arguments() {
+        let args: Vec<String> = [
+            "/x/hopnav",
+            "run",
+            "mapper",
+            "--run-id",
+            "r1",
+            "--config",
+            "/runs/r1/config.toml",
+        ]
+        .map(str::to_owned)
+        .to_vec();
+        let (name, config) = name_and_config(&args);
+        assert_eq!(name.as_deref(), Some("mapper"));
+        assert_eq!(config, Some(PathBuf::from("/runs/r1/config.toml")));
+        assert_eq!(name_and_config(&["hopnav".to_owned()]), (None, None));
+    }
+
+    #[test]
+    fn resident_memory_is_read_from_the_status_text() {
+        let status = "Name:\thopnav\nVmPeak:\t  9000 kB\nVmRSS:\t    2048 kB\n";
+        assert_eq!(vm_rss_bytes(status), Some(2 * 1024 * 1024));
+        assert_eq!(vm_rss_bytes("Name:\tx\n"), None);
+        assert_eq!(vm_rss_bytes("VmRSS:\tlots kB\n"), None);
+    }
+
+    #[test]
+    fn this_process_can_be_read_and_an_absent_one_is_unknown() {
+        let me = read_proc(std::process::id());
+        assert!(me.resident_bytes.is_some_and(|bytes| bytes > 0));
+        let gone = read_proc(u32::MAX);
+        assert_eq!((gone.cpu_ns, gone.resident_bytes), (None, None));
+    }
+
+    #[test]
+    fn budgets_come_from_the_configuration_file_and_a_bad_one_gives_none() {
+        let dir = std::env::temp_dir().join(format!("hopnav-top-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let good = dir.join("good.toml");
+        std::fs::write(&good, "[processes.mapper]\nbudget_ms = 12.5\n").expect("write");
+        let bad = dir.join("bad.toml");
+        std::fs::write(&bad, "[processes.mapper\n").expect("write");
+        assert_eq!(
+            budgets(&good).and_then(|b| b.get("mapper").copied()),
+            Some(12.5)
+        );
+        assert_eq!(budgets(&bad), None);
+        assert_eq!(budgets(&dir.join("missing.toml")), None);
+        std::fs::remove_dir_all(&dir).expect("cleanup");
+    }
+}

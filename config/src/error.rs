@@ -41,3 +41,14 @@ pub enum ConfigError {
     #[error("cannot serialize config: {0}")]
     Serialize(String),
 }
+
+/// A failed range check of a process's own table, as the launcher reports any config error.
+impl From<crate::range::OutOfRange> for ConfigError {
+    fn from(rejected: crate::range::OutOfRange) -> Self {
+        Self::OutOfRange {
+            key: rejected.key,
+            value: rejected.value,
+            allowed: rejected.range,
+        }
+    }
+}

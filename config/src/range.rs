@@ -182,7 +182,12 @@ impl Table {
 
     /// Checks a count against `[lo, hi]`.
     pub fn count(&self, field: &str, v: usize, lo: usize, hi: usize) -> Result<(), OutOfRange> {
-        check_int(self.name, field, v as u64, lo as u64, hi as u64)
+        self.int(field, v as u64, lo as u64, hi as u64)
+    }
+
+    /// Checks an integer against `[lo, hi]`.
+    pub fn int(&self, field: &str, v: u64, lo: u64, hi: u64) -> Result<(), OutOfRange> {
+        check_int(self.name, field, v, lo, hi)
     }
 }
 

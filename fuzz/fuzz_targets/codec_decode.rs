@@ -4,28 +4,10 @@
 
 use libfuzzer_sys::fuzz_target;
 
-/// The benchmark's framed message, plus fields whose decoding can fail.
-#[derive(Debug, serde::Deserialize)]
-#[allow(dead_code)] // Only decoded.
-struct Framed {
-    index: u64,
-    fill_ns: u64,
-    publish_stamp_ns: u64,
-    label: String,
-    flag: bool,
-    letter: char,
-    kind: Option<Kind>,
-    payload: Vec<u8>,
-    nested: Vec<Vec<f64>>,
-}
+#[path = "../../ipc/tests/support/framed.rs"]
+mod framed;
 
-#[derive(Debug, serde::Deserialize)]
-#[allow(dead_code)] // Only decoded.
-enum Kind {
-    Unit,
-    Tuple(u32, f32),
-    Struct { x: i16 },
-}
+use framed::{Framed, Kind};
 
 fuzz_target!(|data: &[u8]| {
     use hopnav_ipc::codec::decode;

@@ -22,6 +22,11 @@ mod plain_old_data;
 
 use plain_old_data::{PlainOldData, take};
 
+#[path = "support/framed.rs"]
+mod framed;
+
+use framed::{Framed, Kind};
+
 /// A `T` holding `bytes` (zero-padded or truncated to its size).
 fn from_bytes<T: PlainOldData>(bytes: &[u8]) -> T {
     take::<T>(bytes).0
@@ -310,28 +315,6 @@ proptest! {
             prop_assert_eq!(guard.check(origin, sequence), expected);
         }
     }
-}
-
-/// A shape like the benchmark's framed message, plus fields whose decoding can fail.
-#[derive(Debug, serde::Deserialize)]
-#[allow(dead_code)] // Only decoded, never read.
-struct Framed {
-    index: u64,
-    publish_stamp_ns: u64,
-    label: String,
-    flag: bool,
-    letter: char,
-    kind: Option<Kind>,
-    payload: Vec<u8>,
-    nested: Vec<Vec<f64>>,
-}
-
-#[derive(Debug, serde::Deserialize)]
-#[allow(dead_code)] // Only decoded, never read.
-enum Kind {
-    Unit,
-    Tuple(u32, f32),
-    Struct { x: i16 },
 }
 
 proptest! {

@@ -29,49 +29,42 @@ const HEIGHT_TOLERANCE_M: f64 = 0.05;
 /// The world's texture for the truth, metres a texel: the largest the config allows.
 const COARSEST_TEXEL_M: f64 = 0.5;
 
-/// What the evaluation adds to the report's `mission` section.
+/// What the evaluation adds to the report's `mission` section. Any field may be missing from
+/// a report (one written before the field existed, or without the evaluation): it reads as
+/// its default.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct MissionEvaluation {
     /// Straight-line distance from A to B, metres.
-    #[serde(default)]
     pub straight_line_m: Option<f64>,
     /// True distance from the rover to B at the end, metres.
-    #[serde(default)]
     pub final_distance_to_goal_m: Option<f64>,
     /// Length of the path the planner would have driven knowing every rock from the start,
     /// metres (the most any scouting could shorten the drive to).
-    #[serde(default)]
     pub full_knowledge_path_m: Option<f64>,
     /// Length of the path the planner would have driven knowing from the start the map the
     /// robots built by the end (unknown cells free, as planned; the rover's bump marks left
     /// out), metres. Above `full_knowledge_path_m` by what the map's errors cost (false or
     /// misplaced obstacles, missed rocks); below the executed path by what learning the map
     /// on the way cost, the part a scout that arrives earlier can win back.
-    #[serde(default)]
     pub built_map_path_m: Option<f64>,
     /// Obstacle cells against the world's rocks.
-    #[serde(default)]
     pub map_accuracy: Option<MapAccuracy>,
     /// Each robot's VO against the truth of the same frames.
-    #[serde(default)]
     pub vo: Vec<VoAccuracy>,
     /// The ground the map shuts the rover's centre out of, against the truth, over the cells
     /// the rover's camera had in sight from within 5 m (ground hidden behind a rock left out).
-    #[serde(default)]
     pub blocked_area: Option<BlockedArea>,
     /// The same over every cell in the camera's horizontal field of view within 5 m, hidden
     /// or not (what `blocked_area` judged before the judge had a line of sight).
-    #[serde(default)]
     pub blocked_area_in_view: Option<BlockedArea>,
     /// The same over every mapped cell within 5 m of the rover's track, whichever way its
     /// camera looked (rocks to the side seen only from afar count too).
-    #[serde(default)]
     pub blocked_area_near_track: Option<BlockedArea>,
     /// `blocked_area` (in sight) in the map's own frame: the map carried onto the truth by the rigid
     /// motion in the ground plane that best aligns the rover's VO with its true track, so the
     /// few centimetres by which the VO misplaces the whole map do not count as the mapper's
     /// error.
-    #[serde(default)]
     pub blocked_area_map_frame: Option<BlockedArea>,
 }
 

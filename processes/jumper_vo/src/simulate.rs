@@ -20,30 +20,7 @@ use hopnav_world::raster::{RenderConfig, RenderScene, Renderer};
 use hopnav_world::{World, WorldConfig};
 use nalgebra::{Isometry3, Point3, Vector3};
 
-/// Error of [`simulate_hop`].
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// The world config is invalid or the world could not be generated.
-    #[error("world: {0}")]
-    World(#[from] hopnav_world::WorldError),
-    /// The camera or render config is invalid.
-    #[error("render config: {0}")]
-    Config(#[from] hopnav_world::ConfigError),
-    /// A frame could not be rendered.
-    #[error("render: {0}")]
-    Render(#[from] hopnav_world::RenderError),
-    /// The camera intrinsics are invalid for the vision library.
-    #[error("camera: {0}")]
-    Camera(#[from] hopnav_vision::camera::CameraError),
-    /// A simulation parameter is out of range.
-    #[error("simulation parameter {key}: {message}")]
-    BadParameter {
-        /// Offending key.
-        key: &'static str,
-        /// Why.
-        message: String,
-    },
-}
+pub use hopnav_world::SimError;
 
 /// What to simulate.
 #[derive(Debug, Clone, PartialEq)]
@@ -166,7 +143,13 @@ pub fn simulate_hop(cfg: &SimConfig) -> Result<SimulatedHop, SimError> {
         wc.fy_px,
         wc.cx_px,
         wc.cy_px,
-    )?;
+    )
+    // The renderer validated this camera; only a field of view too small to give a finite
+    // focal length gets here.
+    .map_err(|error| SimError::BadParameter {
+        key: "camera",
+        message: error.to_string(),
+    })?;
     let (w, h) = (wc.width_px as usize, wc.height_px as usize);
     let num_frames = cfg
         .num_frames

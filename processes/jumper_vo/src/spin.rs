@@ -230,6 +230,16 @@ mod tests {
     use super::*;
     use crate::rng::NoiseRng;
 
+    /// Asserts that the fitted rate lies within `tol_radps` of `expected_radps`.
+    #[track_caller]
+    fn assert_rate_near(fit: &SpinFit, expected_radps: Vector3<f64>, tol_radps: f64) {
+        let rate_radps = fit.rate_radps();
+        assert!(
+            (rate_radps - expected_radps).norm() < tol_radps,
+            "{rate_radps:?} against {expected_radps:?}"
+        );
+    }
+
     fn noisy_increment(
         omega: Vector3<f64>,
         dtau: f64,
@@ -278,7 +288,7 @@ mod tests {
                 0.005,
             );
         }
-        assert!((fit.rate_radps() - commanded).norm() < 0.005);
+        assert_rate_near(&fit, commanded, 0.005);
         // A launch that a rock turned spins at 0.5 rad/s: with a weaker prior, ten keyframe
         // rotations take the rate most of the way.
         let mut fit = SpinFit::new(UnitQuaternion::identity(), commanded, 0.01);
@@ -286,11 +296,7 @@ mod tests {
         for _ in 0..10 {
             fit.add_increment(0.3, &UnitQuaternion::from_scaled_axis(actual * 0.3), 0.005);
         }
-        assert!(
-            (fit.rate_radps() - actual).norm() < 0.1,
-            "{:?}",
-            fit.rate_radps()
-        );
+        assert_rate_near(&fit, actual, 0.1);
     }
 
     #[test]
@@ -309,8 +315,7 @@ mod tests {
                 "row {row}"
             );
         }
-        let error = (fit.rate_radps() - actual).norm();
-        assert!(error < 0.01, "{:?} against {actual:?}", fit.rate_radps());
+        assert_rate_near(&fit, actual, 0.01);
     }
 
     #[test]
@@ -329,11 +334,7 @@ mod tests {
         }
         assert!(!fit.prior_doubted());
         // Nor does it pull the fit: 0.04 rad/s (11° over a hop) if it were kept.
-        assert!(
-            (fit.rate_radps() - commanded).norm() < 0.01,
-            "{:?}",
-            fit.rate_radps()
-        );
+        assert_rate_near(&fit, commanded, 0.01);
     }
 
     #[test]

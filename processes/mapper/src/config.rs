@@ -13,6 +13,7 @@
 //! assert!(err.contains("mapper.traversable_height_m"));
 //! ```
 
+use hopnav_config::range::Table;
 use hopnav_config::{ConfigError, HopnavConfig, in_section, parse_section};
 use serde::{Deserialize, Serialize};
 
@@ -195,21 +196,8 @@ impl Default for MapperConfig {
     }
 }
 
-fn check_f64(key: &str, value: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(in_section("mapper", key, value, format!("[{lo}, {hi}]")))
-    }
-}
-
-fn check_u64(key: &str, value: u64, lo: u64, hi: u64) -> Result<(), ConfigError> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(in_section("mapper", key, value, format!("[{lo}, {hi}]")))
-    }
-}
+/// The `[mapper]` keys, for their range checks.
+const KEYS: Table = Table::new("mapper");
 
 impl MapperConfig {
     /// Checks every value; the error names `mapper.<key>` and the allowed range.
@@ -221,81 +209,81 @@ impl MapperConfig {
 
     /// The grid's cell size, origin and size.
     fn validate_grid(&self) -> Result<(), ConfigError> {
-        check_f64("cell_size_m", self.cell_size_m, 0.05, 10.0)?;
+        KEYS.real("cell_size_m", self.cell_size_m, 0.05, 10.0)?;
         if let Some(x) = self.origin_x_m {
-            check_f64("origin_x_m", x, -1e6, 1e6)?;
+            KEYS.real("origin_x_m", x, -1e6, 1e6)?;
         }
         if let Some(y) = self.origin_y_m {
-            check_f64("origin_y_m", y, -1e6, 1e6)?;
+            KEYS.real("origin_y_m", y, -1e6, 1e6)?;
         }
         if let Some(w) = self.width_cells {
-            check_u64("width_cells", u64::from(w), 1, MAX_CELLS)?;
+            KEYS.int("width_cells", u64::from(w), 1, MAX_CELLS)?;
         }
         if let Some(h) = self.height_cells {
-            check_u64("height_cells", u64::from(h), 1, MAX_CELLS)?;
+            KEYS.int("height_cells", u64::from(h), 1, MAX_CELLS)?;
         }
         Ok(())
     }
 
     /// The features' heights and the first (`features`) rule's votes.
     fn validate_feature_rule(&self) -> Result<(), ConfigError> {
-        check_f64(
+        KEYS.real(
             "traversable_height_m",
             self.traversable_height_m,
             0.01,
             10.0,
         )?;
-        check_f64(
+        KEYS.real(
             "max_feature_height_m",
             self.max_feature_height_m,
             self.traversable_height_m,
             1000.0,
         )?;
-        check_f64("max_depth_sigma_m", self.max_depth_sigma_m, 0.001, 100.0)?;
-        check_f64(
+        KEYS.real("max_depth_sigma_m", self.max_depth_sigma_m, 0.001, 100.0)?;
+        KEYS.real(
             "jumper_height_sigma_factor",
             self.jumper_height_sigma_factor,
             0.0,
             10.0,
         )?;
-        check_f64(
+        KEYS.real(
             "rover_height_sigma_factor",
             self.rover_height_sigma_factor,
             0.0,
             10.0,
         )?;
-        check_u64(
+        KEYS.int(
             "min_obstacle_support",
             u64::from(self.min_obstacle_support),
             1,
             1_000_000,
         )?;
-        check_f64(
+        KEYS.real(
             "obstacle_min_fraction",
             self.obstacle_min_fraction,
             0.0,
             1.0,
         )?;
-        check_u64(
+        KEYS.int(
             "fraction_min_features",
             u64::from(self.fraction_min_features),
             1,
             1_000_000,
         )?;
-        check_u64("min_high_clouds", u64::from(self.min_high_clouds), 1, 1000)?;
-        check_f64(
+        KEYS.int("min_high_clouds", u64::from(self.min_high_clouds), 1, 1000)?;
+        KEYS.real(
             "min_high_cloud_fraction",
             self.min_high_cloud_fraction,
             0.0,
             1.0,
         )?;
-        check_u64(
+        KEYS.int(
             "rover_overrules_jumper_after",
             u64::from(self.rover_overrules_jumper_after),
             0,
             1_000_000,
         )?;
-        check_u64(
+        KEYS.int(
             "min_free_support",
             u64::from(self.min_free_support),
             1,
@@ -307,44 +295,44 @@ impl MapperConfig {
     /// The ground window, the inflation and costs, and the `traversability` model's beliefs
     /// and fitted rocks.
     fn validate_traversability(&self) -> Result<(), ConfigError> {
-        check_f64(
+        KEYS.real(
             "ground_window_m",
             self.ground_window_m,
             self.cell_size_m,
             25.0 * self.cell_size_m,
         )?;
-        check_f64(
+        KEYS.real(
             "inflation_radius_m",
             self.inflation_radius_m,
             0.0,
             25.0 * self.cell_size_m,
         )?;
-        check_f64(
+        KEYS.real(
             "lethal_radius_m",
             self.lethal_radius_m,
             0.0,
             self.inflation_radius_m,
         )?;
-        check_u64(
+        KEYS.int(
             "max_cells_per_frame",
             u64::from(self.max_cells_per_frame),
             1,
             MAX_CELLS,
         )?;
-        check_u64(
+        KEYS.int(
             "inflation_max_cost",
             u64::from(self.inflation_max_cost),
             0,
             1_000_000,
         )?;
-        check_f64("height_sigma_floor_m", self.height_sigma_floor_m, 0.0, 1.0)?;
-        check_f64("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
-        check_f64("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
-        check_f64("rock_width_prior", self.rock_width_prior, 0.0, 2.0)?;
-        check_f64("dome_base_per_height", self.dome_base_per_height, 0.0, 5.0)?;
-        check_f64("rock_lethal_sigmas", self.rock_lethal_sigmas, -1.9, 1.9)?;
-        check_f64("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
-        check_u64(
+        KEYS.real("height_sigma_floor_m", self.height_sigma_floor_m, 0.0, 1.0)?;
+        KEYS.real("cost_scaling_per_m", self.cost_scaling_per_m, 0.0, 100.0)?;
+        KEYS.real("hit_sigmas", self.hit_sigmas, 0.0, 10.0)?;
+        KEYS.real("rock_width_prior", self.rock_width_prior, 0.0, 2.0)?;
+        KEYS.real("dome_base_per_height", self.dome_base_per_height, 0.0, 5.0)?;
+        KEYS.real("rock_lethal_sigmas", self.rock_lethal_sigmas, -1.9, 1.9)?;
+        KEYS.real("hit_margin_m", self.hit_margin_m, -1.0, 1.0)?;
+        KEYS.int(
             "uncertain_cost",
             u64::from(self.uncertain_cost),
             0,

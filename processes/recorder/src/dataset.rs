@@ -9,7 +9,8 @@ use serde_json::json;
 
 use crate::RecorderError;
 use crate::writers::{
-    ImageStream, TextFile, write_altimeter, write_cloud, write_estimate, write_imu, write_truth,
+    ImageStream, TextFile, io_error, write_altimeter, write_cloud, write_estimate, write_imu,
+    write_truth,
 };
 
 /// The files of one dataset, opened once, appended to every frame.
@@ -31,10 +32,7 @@ pub struct Dataset {
 impl Dataset {
     /// A dataset in `dir` (created if missing).
     pub fn create(dir: PathBuf) -> Result<Self, RecorderError> {
-        std::fs::create_dir_all(&dir).map_err(|source| RecorderError::Io {
-            path: dir.display().to_string(),
-            source,
-        })?;
+        std::fs::create_dir_all(&dir).map_err(io_error(&dir))?;
         Ok(Self {
             jumper_stream: ImageStream::create(dir.join("jumper_cam"))?,
             rover_left: ImageStream::create(dir.join("rover_left"))?,
@@ -168,10 +166,7 @@ impl Dataset {
         self.flush_all()?;
         let path = self.dir.join("cameras.json");
         let text = serde_json::to_string_pretty(&self.cameras).unwrap_or_default();
-        std::fs::write(&path, text).map_err(|source| RecorderError::Io {
-            path: path.display().to_string(),
-            source,
-        })
+        std::fs::write(&path, text).map_err(io_error(&path))
     }
 
     /// One line on what was written.

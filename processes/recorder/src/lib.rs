@@ -22,18 +22,13 @@ mod writers;
 pub use recorder::Recorder;
 pub use recording::{RecordingSummary, check_writable};
 
-/// Why the recorder failed.
+/// Why the recorder failed: a failure every node shares (its config, its ports), or one of
+/// its own ([`RecordingError`]).
+pub type RecorderError = hopnav_ipc::node_error::NodeError<RecordingError>;
+
+/// The recorder's own failures: where and how it writes what it records.
 #[derive(Debug, thiserror::Error)]
-pub enum RecorderError {
-    /// The configuration could not be loaded.
-    #[error(transparent)]
-    Config(#[from] hopnav_config::ConfigError),
-    /// A port could not be opened.
-    #[error(transparent)]
-    Open(#[from] hopnav_ipc::transport::OpenError),
-    /// A sample could not be received.
-    #[error(transparent)]
-    Receive(#[from] hopnav_ipc::transport::ReceiveError),
+pub enum RecordingError {
     /// Writing the dataset failed.
     #[error("dataset {path}: {source}")]
     Io {

@@ -10,10 +10,11 @@ use hopnav_ipc::transport::ZeroCopySend;
 use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::WireBytes;
 
-use crate::RecorderError;
 use crate::dataset::Dataset;
 use crate::recording::{BUILD_COMMIT, McapRecording};
 use crate::taps::{MessageTap, SliceTap, Taps};
+use crate::writers::io_error;
+use crate::{RecorderError, RecordingError};
 
 /// Reads every tapped topic each frame and writes it to a dataset folder, an MCAP recording,
 /// or both.
@@ -87,13 +88,8 @@ impl Recorder {
         let dataset = dataset_dir.map(Dataset::create).transpose()?;
         let recording = match mcap_path {
             Some(path) => {
-                let config_toml =
-                    std::fs::read_to_string(&identity.config_path).map_err(|source| {
-                        RecorderError::Io {
-                            path: identity.config_path.display().to_string(),
-                            source,
-                        }
-                    })?;
+                let config_toml = std::fs::read_to_string(&identity.config_path)
+                    .map_err(io_error(&identity.config_path))?;
                 let metadata = [
                     (
                         "hopnav.launch",
@@ -141,7 +137,7 @@ impl Process for Recorder {
         let dataset_dir = configured(&config.recorder.dir);
         let mcap_path = configured(&config.recorder.mcap);
         if dataset_dir.is_none() && mcap_path.is_none() {
-            return Err(RecorderError::NoOutput);
+            return Err(RecorderError::Own(RecordingError::NoOutput));
         }
         Self::open(context, dataset_dir, mcap_path)
     }

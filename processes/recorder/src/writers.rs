@@ -9,14 +9,17 @@ use hopnav_ipc::messages::{
     Robot,
 };
 
-use crate::RecorderError;
 use crate::formats::pgm::write_pgm;
 use crate::formats::tum::{TumPose, write_tum_line};
+use crate::{RecorderError, RecordingError};
 
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecorderError + '_ {
-    move |source| RecorderError::Io {
-        path: path.display().to_string(),
-        source,
+/// Turns an OS error on `path` into the recorder's [`RecordingError::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> RecorderError + '_ {
+    move |source| {
+        RecorderError::Own(RecordingError::Io {
+            path: path.display().to_string(),
+            source,
+        })
     }
 }
 

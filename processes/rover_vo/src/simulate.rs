@@ -23,27 +23,7 @@ use hopnav_world::raster::{RenderConfig, RenderScene, Renderer};
 use hopnav_world::{World, WorldConfig};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
-/// Error of [`simulate_traverse`].
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// The world could not be generated.
-    #[error("world: {0}")]
-    World(#[from] hopnav_world::WorldError),
-    /// The camera or render config is invalid.
-    #[error("render config: {0}")]
-    Config(#[from] hopnav_world::ConfigError),
-    /// A frame could not be rendered.
-    #[error("render: {0}")]
-    Render(#[from] hopnav_world::RenderError),
-    /// A simulation parameter is out of range.
-    #[error("simulation parameter {key}: {message}")]
-    BadParameter {
-        /// Offending key.
-        key: &'static str,
-        /// Why.
-        message: String,
-    },
-}
+pub use hopnav_world::SimError;
 
 /// What to simulate.
 #[derive(Debug, Clone, PartialEq)]

@@ -72,3 +72,26 @@ pub enum RenderError {
     #[error("invalid camera config: {0}")]
     InvalidCamera(#[from] ConfigError),
 }
+
+/// An offline simulation that renders a generated world (the VO crates' scripted hop and
+/// traverse) failed: the world, the renderer, or one of the simulation's own parameters.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The world config is invalid or the world could not be generated.
+    #[error("world: {0}")]
+    World(#[from] WorldError),
+    /// The camera or render config is invalid.
+    #[error("render config: {0}")]
+    Config(#[from] ConfigError),
+    /// A frame could not be rendered.
+    #[error("render: {0}")]
+    Render(#[from] RenderError),
+    /// A simulation parameter is out of range.
+    #[error("simulation parameter {key}: {message}")]
+    BadParameter {
+        /// Offending key.
+        key: &'static str,
+        /// Why.
+        message: String,
+    },
+}

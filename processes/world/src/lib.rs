@@ -60,5 +60,5 @@ pub mod texture;
 pub mod world;
 
 pub use config::WorldConfig;
-pub use error::{ConfigError, RenderError, WorldError};
+pub use error::{ConfigError, RenderError, SimError, WorldError};
 pub use world::World;

@@ -3,15 +3,13 @@
 use std::borrow::Cow;
 use std::time::Duration;
 
-use hopnav_ipc::IpcService;
 use hopnav_ipc::messages::ImageHeader;
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::stamp::monotonic_now_ns;
 use hopnav_ipc::topics::TopicSpec;
 use hopnav_ipc::transport::{SlicePublisher, SliceSubscriber};
-use iceoryx2::prelude::{CallbackProgression, WaitSetBuilder};
 
-use super::{AckListener, AckNotifier, SampleTiming};
+use super::{AckListener, AckNotifier, SampleTiming, wait_for_wakeup, waitset};
 use crate::BenchError;
 use crate::peer::{PeerArgs, bench_header, pause, payload_byte, signal_ready};
 
@@ -60,21 +58,14 @@ pub(crate) fn subscribe(args: &PeerArgs) -> Result<Vec<SampleTiming>, BenchError
     let subscriber = SliceSubscriber::<ImageHeader>::open(&node, &topic(&args.id))
         .map_err(|e| BenchError::transport("subscriber", e))?;
     let ack = AckNotifier::open(&node, &args.id)?;
-    let waitset = WaitSetBuilder::new()
-        .create::<IpcService>()
-        .map_err(|e| BenchError::transport("waitset", e))?;
+    let waitset = waitset()?;
     let _guard = waitset
         .attach_notification(subscriber.listener())
         .map_err(|e| BenchError::transport("attach", e))?;
     signal_ready();
     let mut timings = Vec::with_capacity(args.total_messages());
     while timings.len() < args.total_messages() {
-        waitset
-            .wait_and_process_once_with_timeout(
-                |_| CallbackProgression::Continue,
-                Duration::from_secs(10),
-            )
-            .map_err(|e| BenchError::transport("wait", e))?;
+        wait_for_wakeup(&waitset)?;
         subscriber.clear_events();
         while let Some(sample) = subscriber
             .receive()

@@ -5,8 +5,10 @@ mod ack;
 pub(crate) mod hopnav_topic;
 pub(crate) mod raw_iceoryx2;
 pub(crate) mod unix_socket;
+mod wake;
 
 pub(crate) use ack::{AckListener, AckNotifier};
+pub(crate) use wake::{wait_for_wakeup, waitset};
 
 /// A transport to measure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,10 +8,10 @@ use hopnav_ipc::messages::ImageHeader;
 use hopnav_ipc::namespace::Namespace;
 use hopnav_ipc::stamp::monotonic_now_ns;
 use iceoryx2::node::Node;
-use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, WaitSetBuilder};
+use iceoryx2::prelude::{AllocationStrategy, ServiceName};
 use iceoryx2::service::port_factory::{event, publish_subscribe};
 
-use super::{AckListener, AckNotifier, SampleTiming};
+use super::{AckListener, AckNotifier, SampleTiming, wait_for_wakeup, waitset};
 use crate::BenchError;
 use crate::peer::{PeerArgs, bench_header, pause, payload_byte, signal_ready};
 
@@ -95,9 +95,7 @@ pub(crate) fn subscribe(args: &PeerArgs, poll: bool) -> Result<Vec<SampleTiming>
         .create()
         .map_err(|e| BenchError::transport("listener", e))?;
     let ack = AckNotifier::open(&node, &args.id)?;
-    let waitset = WaitSetBuilder::new()
-        .create::<IpcService>()
-        .map_err(|e| BenchError::transport("waitset", e))?;
+    let waitset = waitset()?;
     let _guard = waitset
         .attach_notification(&listener)
         .map_err(|e| BenchError::transport("attach", e))?;
@@ -106,12 +104,7 @@ pub(crate) fn subscribe(args: &PeerArgs, poll: bool) -> Result<Vec<SampleTiming>
     let mut last_progress = Instant::now();
     while timings.len() < args.total_messages() {
         if !poll {
-            waitset
-                .wait_and_process_once_with_timeout(
-                    |_| CallbackProgression::Continue,
-                    Duration::from_secs(10),
-                )
-                .map_err(|e| BenchError::transport("wait", e))?;
+            wait_for_wakeup(&waitset)?;
             let _ = listener.try_wait(|_| {});
         }
         match subscriber

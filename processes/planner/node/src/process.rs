@@ -38,13 +38,7 @@ pub struct PlannerSection {
 /// switch the cooperative rule off.
 pub fn planner_section(config: &HopnavConfig) -> Result<PlannerSection, ConfigError> {
     let mut navigator: NavigatorConfig = parse_section(config, "planner")?;
-    navigator
-        .validate()
-        .map_err(|(key, value, allowed)| ConfigError::OutOfRange {
-            key: format!("planner.{key}"),
-            value: value.to_string(),
-            allowed: allowed.into(),
-        })?;
+    navigator.validate()?;
     if config.mission.mode == MissionMode::RoverOnly {
         navigator.scout.enabled = false;
     }

@@ -1,5 +1,6 @@
 //! Settings of the rover's navigation (`[planner]` in the config).
 
+use hopnav_config::range::{Interval, OutOfRange, dotted_key};
 use serde::{Deserialize, Serialize};
 
 /// How the rover follows its path and when it gives up.
@@ -120,31 +121,39 @@ impl Default for ScoutConfig {
     }
 }
 
-/// A key, its value, the allowed closed range and that range as the error states it.
-type RangeCheck = (&'static str, f64, f64, f64, &'static str);
+/// The table the planner's keys live in.
+const TABLE: &str = "planner";
 
-/// The first check whose value is not finite or is outside its range.
-fn first_out_of_range(checks: &[RangeCheck]) -> Result<(), (String, f64, &'static str)> {
-    for &(key, value, low, high, range) in checks {
-        if !(value.is_finite() && (low..=high).contains(&value)) {
-            return Err((key.to_string(), value, range));
+/// A key (relative to `[planner]`), its value and the allowed closed range.
+type RangeCheck = (&'static str, f64, f64, f64);
+
+/// The first check whose value is not finite or is outside its range; the error names
+/// `planner.<key>` and states the range as `low..=high`.
+fn first_out_of_range(checks: &[RangeCheck]) -> Result<(), OutOfRange> {
+    for &(key, value, low, high) in checks {
+        if !Interval::closed(low, high).contains(value) {
+            return Err(OutOfRange {
+                key: dotted_key(TABLE, key),
+                value: value.to_string(),
+                range: format!("{low}..={high}"),
+            });
         }
     }
     Ok(())
 }
 
 impl NavigatorConfig {
-    /// Checks every value; the error names the key (relative to `[planner]`) and its range.
-    pub fn validate(&self) -> Result<(), (String, f64, &'static str)> {
+    /// Checks every value; the error names the key (`planner.<key>`) and its range.
+    pub fn validate(&self) -> Result<(), OutOfRange> {
         first_out_of_range(&self.stuck_checks())?;
         first_out_of_range(&self.driving_checks())?;
         first_out_of_range(&self.scout_checks())?;
         if self.scout.min_hop_m > self.scout.hop_range_m {
-            return Err((
-                "scout.min_hop_m".into(),
-                self.scout.min_hop_m,
-                "at most scout.hop_range_m",
-            ));
+            return Err(OutOfRange {
+                key: dotted_key(TABLE, "scout.min_hop_m"),
+                value: self.scout.min_hop_m.to_string(),
+                range: "at most scout.hop_range_m".into(),
+            });
         }
         Ok(())
     }
@@ -152,80 +161,36 @@ impl NavigatorConfig {
     /// The stall, no-progress, back-off, bump and tilt limits.
     fn stuck_checks(&self) -> [RangeCheck; 10] {
         [
-            ("stall_time_s", self.stall_time_s, 0.5, 600.0, "0.5..=600"),
-            (
-                "no_progress_time_s",
-                self.no_progress_time_s,
-                1.0,
-                3600.0,
-                "1..=3600",
-            ),
+            ("stall_time_s", self.stall_time_s, 0.5, 600.0),
+            ("no_progress_time_s", self.no_progress_time_s, 1.0, 3600.0),
             (
                 "no_progress_distance_m",
                 self.no_progress_distance_m,
                 0.01,
                 10.0,
-                "0.01..=10",
             ),
-            ("stall_yaw_rad", self.stall_yaw_rad, 0.001, 3.0, "0.001..=3"),
-            ("back_off_m", self.back_off_m, 0.0, 10.0, "0..=10"),
-            (
-                "back_off_timeout_s",
-                self.back_off_timeout_s,
-                0.1,
-                600.0,
-                "0.1..=600",
-            ),
-            ("bump_reach_m", self.bump_reach_m, 0.1, 10.0, "0.1..=10"),
-            ("bump_ring_m", self.bump_ring_m, 0.0, 5.0, "0..=5"),
-            (
-                "max_safe_tilt_rad",
-                self.max_safe_tilt_rad,
-                0.05,
-                1.5,
-                "0.05..=1.5",
-            ),
-            (
-                "stall_distance_m",
-                self.stall_distance_m,
-                0.01,
-                10.0,
-                "0.01..=10",
-            ),
+            ("stall_yaw_rad", self.stall_yaw_rad, 0.001, 3.0),
+            ("back_off_m", self.back_off_m, 0.0, 10.0),
+            ("back_off_timeout_s", self.back_off_timeout_s, 0.1, 600.0),
+            ("bump_reach_m", self.bump_reach_m, 0.1, 10.0),
+            ("bump_ring_m", self.bump_ring_m, 0.0, 5.0),
+            ("max_safe_tilt_rad", self.max_safe_tilt_rad, 0.05, 1.5),
+            ("stall_distance_m", self.stall_distance_m, 0.01, 10.0),
         ]
     }
 
     /// Goal, speed, lookahead, sensing and the unknown-cell premium.
     fn driving_checks(&self) -> [RangeCheck; 5] {
         [
-            (
-                "goal_tolerance_m",
-                self.goal_tolerance_m,
-                0.05,
-                20.0,
-                "0.05..=20",
-            ),
-            (
-                "cruise_speed_mps",
-                self.cruise_speed_mps,
-                0.01,
-                10.0,
-                "0.01..=10",
-            ),
-            ("lookahead_m", self.lookahead_m, 0.1, 20.0, "0.1..=20"),
-            (
-                "sensing_range_m",
-                self.sensing_range_m,
-                0.5,
-                100.0,
-                "0.5..=100",
-            ),
+            ("goal_tolerance_m", self.goal_tolerance_m, 0.05, 20.0),
+            ("cruise_speed_mps", self.cruise_speed_mps, 0.01, 10.0),
+            ("lookahead_m", self.lookahead_m, 0.1, 20.0),
+            ("sensing_range_m", self.sensing_range_m, 0.5, 100.0),
             (
                 "unknown_extra_cost",
                 f64::from(self.unknown_extra_cost),
                 0.0,
                 100_000.0,
-                "0..=100000",
             ),
         ]
     }
@@ -233,33 +198,19 @@ impl NavigatorConfig {
     /// The cooperative rule (`scout.*`).
     fn scout_checks(&self) -> [RangeCheck; 4] {
         [
-            (
-                "scout.hop_range_m",
-                self.scout.hop_range_m,
-                1.0,
-                100.0,
-                "1..=100",
-            ),
-            (
-                "scout.min_hop_m",
-                self.scout.min_hop_m,
-                0.0,
-                100.0,
-                "0..=100",
-            ),
+            ("scout.hop_range_m", self.scout.hop_range_m, 1.0, 100.0),
+            ("scout.min_hop_m", self.scout.min_hop_m, 0.0, 100.0),
             (
                 "scout.min_interval_s",
                 self.scout.min_interval_s,
                 0.0,
                 600.0,
-                "0..=600",
             ),
             (
                 "scout.max_requests",
                 f64::from(self.scout.max_requests),
                 0.0,
                 1000.0,
-                "0..=1000",
             ),
         ]
     }
@@ -274,10 +225,14 @@ mod tests {
         let mut config = NavigatorConfig::default();
         assert_eq!(config.validate(), Ok(()));
         config.unknown_extra_cost = 200_000;
-        let (key, value, allowed) = config.validate().unwrap_err();
+        let rejected = config.validate().unwrap_err();
         assert_eq!(
-            (key.as_str(), value, allowed),
-            ("unknown_extra_cost", 200_000.0, "0..=100000")
+            (
+                rejected.key.as_str(),
+                rejected.value.as_str(),
+                rejected.range.as_str()
+            ),
+            ("planner.unknown_extra_cost", "200000", "0..=100000")
         );
     }
 }

@@ -10,7 +10,7 @@ use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
 use super::summary::{ChannelSummary, RecordingSummary};
-use crate::RecorderError;
+use crate::{RecorderError, RecordingError};
 
 /// One channel to create: its topic and the schema of its messages.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -69,14 +69,21 @@ fn describe(error: &mcap::McapError) -> String {
     text
 }
 
+/// Turns an OS error on the recording `path` into [`RecordingError::Unwritable`].
+fn unwritable(path: &Path) -> impl Fn(std::io::Error) -> RecorderError + '_ {
+    move |source| {
+        RecorderError::Own(RecordingError::Unwritable {
+            path: path.display().to_string(),
+            source,
+        })
+    }
+}
+
 /// Checks that `path` can be written as a recording, creating nothing that was not there.
 pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
-    let unwritable = |source| RecorderError::Unwritable {
-        path: path.display().to_string(),
-        source,
-    };
+    let refused = unwritable(path);
     if path.is_dir() {
-        return Err(unwritable(std::io::Error::new(
+        return Err(refused(std::io::Error::new(
             std::io::ErrorKind::IsADirectory,
             "is a folder, not a file",
         )));
@@ -87,9 +94,9 @@ pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
         .create(true)
         .truncate(false)
         .open(path)
-        .map_err(unwritable)?;
+        .map_err(&refused)?;
     if !existed {
-        std::fs::remove_file(path).map_err(unwritable)?;
+        std::fs::remove_file(path).map_err(&refused)?;
     }
     Ok(())
 }
@@ -101,10 +108,7 @@ impl McapRecording {
         channels: &[ChannelSpec],
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
-        let file = File::create(path).map_err(|source| RecorderError::Unwritable {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let file = File::create(path).map_err(unwritable(path))?;
         Self::into_sink(path, BufWriter::new(file), channels, metadata)
     }
 }
@@ -117,9 +121,11 @@ impl<W: Write + Seek> McapRecording<W> {
         channels: &[ChannelSpec],
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
-        let mcap_error = |error: mcap::McapError| RecorderError::Mcap {
-            path: path.display().to_string(),
-            reason: describe(&error),
+        let mcap_error = |error: mcap::McapError| {
+            RecorderError::Own(RecordingError::Mcap {
+                path: path.display().to_string(),
+                reason: describe(&error),
+            })
         };
         let mut writer = mcap::WriteOptions::new()
             .compression(Some(mcap::Compression::Lz4))

@@ -43,13 +43,7 @@ pub fn rover_vo_section(config: &HopnavConfig) -> Result<RoverVoConfig, ConfigEr
     if section.start_xy_m.is_none() {
         section.start_xy_m = Some(resolve_start_xy(config)?);
     }
-    section
-        .validate()
-        .map_err(|error| ConfigError::OutOfRange {
-            key: error.key,
-            value: error.value,
-            allowed: error.range,
-        })?;
+    section.validate()?;
     Ok(section)
 }
 

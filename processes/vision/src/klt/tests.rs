@@ -59,6 +59,17 @@ fn rms(v: &[f32]) -> f32 {
     (v.iter().map(|e| e * e).sum::<f32>() / v.len() as f32).sqrt()
 }
 
+/// Asserts that at least `min_fraction` of the corners were tracked and that the RMS of their
+/// errors is below `max_rms_px`.
+#[track_caller]
+fn assert_tracked(errors: &[f32], status: &[TrackStatus], min_fraction: f32, max_rms_px: f32) {
+    assert!(
+        errors.len() as f32 >= min_fraction * status.len() as f32,
+        "{status:?}"
+    );
+    assert!(rms(errors) < max_rms_px, "rms {}", rms(errors));
+}
+
 #[test]
 fn fused_mismatch_matches_sample_then_mismatch() {
     let tex = BlobTexture::random(W, H, 350, 21);
@@ -175,32 +186,22 @@ fn template_and_tensor_match_scalar_central_differences() {
 #[test]
 fn subpixel_shift_is_accurate() {
     let (errors, status) = run(AffineWarp::translation(3.37, -2.61), KltConfig::default());
-    let tracked = errors.len();
-    assert!(tracked as f32 >= 0.9 * status.len() as f32, "{status:?}");
-    assert!(rms(&errors) < 0.05, "rms {}", rms(&errors));
+    assert_tracked(&errors, &status, 0.9, 0.05);
     assert!(errors.iter().all(|&e| e < 0.1), "{errors:?}");
 }
 
 #[test]
 fn large_shift_uses_the_pyramid() {
     let (errors, status) = run(AffineWarp::translation(-14.2, 9.6), KltConfig::default());
-    assert!(
-        errors.len() as f32 >= 0.7 * status.len() as f32,
-        "{status:?}"
-    );
-    assert!(rms(&errors) < 0.1, "rms {}", rms(&errors));
+    assert_tracked(&errors, &status, 0.7, 0.1);
 }
 
 #[test]
 fn small_rotation_is_tracked() {
     let warp = AffineWarp::rotation_about(3f64.to_radians(), 64.0, 64.0, 1.0, 0.5);
     let (errors, status) = run(warp, KltConfig::default());
-    assert!(
-        errors.len() as f32 >= 0.8 * status.len() as f32,
-        "{status:?}"
-    );
     // A translational window model under rotation: ~0.1-0.2 px is the expected bias.
-    assert!(rms(&errors) < 0.25, "rms {}", rms(&errors));
+    assert_tracked(&errors, &status, 0.8, 0.25);
 }
 
 #[test]

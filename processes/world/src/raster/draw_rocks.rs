@@ -2,10 +2,9 @@
 //! per-face texture projection and flat shading.
 
 use super::materials::RockMaterial;
+use super::pass::DrawPass;
 use super::scene::{ROCK_TEXELS_PER_M, RenderScene, RockInstance};
-use super::tri::{
-    ClipVertex, Projector, ScreenVertex, Target, draw_clipped, draw_projected, uv_area,
-};
+use super::tri::{ClipVertex, Projector, Target, draw_clipped, draw_projected, uv_area};
 use super::view::View;
 
 /// Rocks smaller than this on screen (radius, px) use the 20-face mesh.
@@ -56,18 +55,20 @@ fn splat_rock(
 }
 
 /// Draws one rock (culling and LOD included); returns the number of triangles submitted.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn draw_rock(
     scene: &RenderScene,
     ri: usize,
-    view: &View,
-    proj: &Projector,
     focal: f32,
-    clip: &mut [ClipVertex],
-    screen: &mut [ScreenVertex],
+    pass: &mut DrawPass<'_>,
     target: &mut Target<'_>,
     mat: &RockMaterial<'_>,
 ) -> u32 {
+    let DrawPass {
+        view,
+        proj,
+        clip,
+        screen,
+    } = pass;
     let rock = &scene.rocks[ri];
     if !view.sphere_visible(rock.center, rock.radius) {
         return 0;

@@ -2,31 +2,35 @@
 //! neighbours), camera transform, projection, and two triangles per cell.
 
 use super::materials::TerrainMaterial;
+use super::pass::DrawPass;
 use super::scene::RenderScene;
 use super::tri::{ClipVertex, Projector, ScreenVertex, Target, draw_clipped, draw_projected};
-use super::view::View;
 
 /// Draws one terrain chunk at its LOD; returns the number of triangles submitted.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn draw_chunk(
     scene: &RenderScene,
     k: usize,
     lod: &[u8],
-    view: &View,
-    proj: &Projector,
-    clip: &mut [ClipVertex],
-    screen: &mut [ScreenVertex],
+    pass: &mut DrawPass<'_>,
     target: &mut Target<'_>,
     mat: &TerrainMaterial<'_>,
 ) -> u32 {
     let ch = &scene.chunks[k];
     let s = 1usize << lod[k];
     let nv = (ch.ci / s + 1, ch.cj / s + 1);
-    transform_vertices(scene, k, lod, view, proj, clip, screen);
+    transform_vertices(scene, k, lod, pass);
     let sp = scene.spacing;
     let (tu, tv) = (sp * scene.inv_texel[0], sp * scene.inv_texel[1]);
     let cell_uv_area = 0.5 * (s as f32 * tu) * (s as f32 * tv);
-    draw_cells(nv, cell_uv_area, proj, clip, screen, target, mat)
+    draw_cells(
+        nv,
+        cell_uv_area,
+        pass.proj,
+        pass.clip,
+        pass.screen,
+        target,
+        mat,
+    )
 }
 
 /// LOD levels of a chunk's four neighbours (0 where there is none).
@@ -102,15 +106,13 @@ fn on_coarse_edge(pos: usize, nl: u8, at: impl Fn(usize) -> f32) -> f32 {
 
 /// Fills `clip` with chunk `k`'s vertices in camera space (edges stitched to coarser
 /// neighbours) and `screen` with the projections of those in front of the near plane.
-fn transform_vertices(
-    scene: &RenderScene,
-    k: usize,
-    lod: &[u8],
-    view: &View,
-    proj: &Projector,
-    clip: &mut [ClipVertex],
-    screen: &mut [ScreenVertex],
-) {
+fn transform_vertices(scene: &RenderScene, k: usize, lod: &[u8], pass: &mut DrawPass<'_>) {
+    let DrawPass {
+        view,
+        proj,
+        clip,
+        screen,
+    } = pass;
     let ch = &scene.chunks[k];
     let l = lod[k];
     let s = 1usize << l;

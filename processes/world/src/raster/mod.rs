@@ -17,6 +17,7 @@
 mod draw_rocks;
 mod draw_terrain;
 mod materials;
+mod pass;
 mod pixel_noise;
 mod scene;
 mod tri;
@@ -33,6 +34,7 @@ use crate::error::{ConfigError, RenderError};
 use draw_rocks::draw_rock;
 use draw_terrain::draw_chunk;
 use materials::{FlatMaterial, RockMaterial, TerrainMaterial};
+use pass::DrawPass;
 use pixel_noise::PixelNoise;
 use scene::CHUNK_CELLS;
 use tri::{ClipVertex, Projector, ScreenVertex, Target, draw_clipped};
@@ -199,39 +201,26 @@ impl Renderer {
         let rock_mat = RockMaterial {
             tex: &scene.rock_tex,
         };
+        let mut pass = DrawPass {
+            view: &view,
+            proj: &proj,
+            clip: &mut self.clip,
+            screen: &mut self.screen,
+        };
         for &(_, k) in &self.order {
             let k = k as usize;
             stats.chunks_drawn += 1;
             // Rocks first: the terrain they hide then fails the depth test cheaply.
             let (r0, r1) = scene.chunks[k].rocks;
             for &ri in &scene.chunk_rocks[r0 as usize..r1 as usize] {
-                let n = draw_rock(
-                    scene,
-                    ri as usize,
-                    &view,
-                    &proj,
-                    focal,
-                    &mut self.clip,
-                    &mut self.screen,
-                    &mut target,
-                    &rock_mat,
-                );
+                let n = draw_rock(scene, ri as usize, focal, &mut pass, &mut target, &rock_mat);
                 if n > 0 {
                     stats.rocks_drawn += 1;
                     stats.triangles += n;
                 }
             }
-            stats.triangles += draw_chunk(
-                scene,
-                k,
-                &self.lod,
-                &view,
-                &proj,
-                &mut self.clip,
-                &mut self.screen,
-                &mut target,
-                &terrain_mat,
-            );
+            stats.triangles +=
+                draw_chunk(scene, k, &self.lod, &mut pass, &mut target, &terrain_mat);
         }
         stats.triangles += draw_markers(scene, &view, &proj, &mut target);
         let Target { zbuf, out, .. } = target;

@@ -1,5 +1,6 @@
-//! `hopnav launch --record FILE.mcap`: a lockstep launch records every frame of every topic,
-//! readable by the `mcap` crate; a path that cannot be written stops the launch before it starts.
+//! `hopnav launch --record FILE.mcap`: a lockstep launch records every frame of every topic
+//! (and, beside them, Foxglove's messages of the images and frames), readable by the `mcap`
+//! crate; a path that cannot be written stops the launch before it starts.
 
 mod common;
 
@@ -32,9 +33,14 @@ fn lockstep_launch_records_every_frame_of_every_topic() {
         .expect("has a summary");
     let mut schemas = BTreeMap::new();
     for channel in summary.channels.values() {
-        assert_eq!(channel.message_encoding, wire::MESSAGE_ENCODING);
         let schema = channel.schema.as_ref().expect("every channel has a schema");
-        assert!(schema.name.starts_with("hopnav."), "{}", schema.name);
+        if channel.topic.starts_with("/foxglove/") {
+            assert_eq!(channel.message_encoding, "protobuf");
+            assert!(schema.name.starts_with("foxglove."), "{}", schema.name);
+        } else {
+            assert_eq!(channel.message_encoding, wire::MESSAGE_ENCODING);
+            assert!(schema.name.starts_with("hopnav."), "{}", schema.name);
+        }
         schemas.insert(channel.topic.clone(), schema.name.clone());
     }
     assert_eq!(schemas["hopnav/rover_vo/pose"], "hopnav.PoseEstimate.v2");
@@ -72,9 +78,20 @@ fn lockstep_launch_records_every_frame_of_every_topic() {
         "hopnav/camera/rover_stereo",
         "hopnav/jumper_vo/pose",
         "hopnav/rover_vo/pose",
+        // Beside them, Foxglove's messages: the same images, one per view ...
+        "/foxglove/jumper/image",
+        "/foxglove/rover/left_image",
+        "/foxglove/rover/right_image",
     ] {
         assert_eq!(counts.get(topic), Some(&FRAMES), "{topic}: {counts:?}");
     }
+    // ... and the frames: the truth and both estimates, every frame.
+    assert_eq!(
+        counts.get("/foxglove/tf"),
+        Some(&(3 * FRAMES)),
+        "{counts:?}"
+    );
+    assert_eq!(schemas["/foxglove/map"], "foxglove.Grid");
 
     let metadata: BTreeMap<_, _> = summary
         .metadata_indexes

@@ -137,6 +137,9 @@ pub struct RecorderConfig {
     /// MCAP file of every topic (`--record`); empty for none. One of `dir` and `mcap` is
     /// required when `processes.recorder.enabled`.
     pub mcap: String,
+    /// Also write the images, clouds, robot frames, map snapshots and path into the MCAP file
+    /// as Foxglove's well-known messages (so it opens in Foxglove); about doubles its size.
+    pub foxglove: bool,
 }
 
 /// Who explores: both robots, or the rover alone (the baseline the paper compares against).

@@ -17,6 +17,7 @@ pub mod formats;
 mod recorder;
 pub mod recording;
 mod taps;
+mod views;
 mod writers;
 
 pub use recorder::Recorder;

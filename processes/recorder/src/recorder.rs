@@ -82,6 +82,7 @@ impl Recorder {
         context: &ProcessContext,
         dataset_dir: Option<PathBuf>,
         mcap_path: Option<PathBuf>,
+        foxglove: bool,
     ) -> Result<Self, RecorderError> {
         let identity = &context.identity;
         let (taps, channels) = Taps::open(context)?;
@@ -107,7 +108,9 @@ impl Recorder {
                     ),
                 ];
                 let path = recording_path(&path, identity.incarnation);
-                Some(McapRecording::create(&path, &channels, &metadata)?)
+                Some(McapRecording::create(
+                    &path, &channels, foxglove, &metadata,
+                )?)
             }
             None => None,
         };
@@ -139,7 +142,7 @@ impl Process for Recorder {
         if dataset_dir.is_none() && mcap_path.is_none() {
             return Err(RecorderError::Own(RecordingError::NoOutput));
         }
-        Self::open(context, dataset_dir, mcap_path)
+        Self::open(context, dataset_dir, mcap_path, config.recorder.foxglove)
     }
 
     fn step(&mut self, _context: &ProcessContext, _tick: &FrameTick) -> Result<(), RecorderError> {

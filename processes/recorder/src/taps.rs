@@ -15,11 +15,14 @@ use hopnav_ipc::wire::{self, WireBytes};
 
 use crate::RecorderError;
 use crate::recording::{ChannelSpec, McapRecording};
+use crate::views;
 
-/// A subscriber of one tapped topic and the index of its recording channel.
-pub struct Tap<P> {
+/// A subscriber of one tapped topic, the index of its recording channel, and what it adds
+/// to the recording's Foxglove channels.
+pub struct Tap<P: TapPort> {
     subscriber: P,
     channel: usize,
+    view: Option<P::View>,
 }
 
 /// A tap of fixed-size messages.
@@ -29,14 +32,23 @@ pub type SliceTap<H> = Tap<SliceSubscriber<H>>;
 
 /// What a tap needs of its subscriber: to open it, the schema it records under, and its count
 /// of rejected samples.
-pub(crate) trait TapPort: Sized {
+pub trait TapPort: Sized {
+    /// Writes a sample's Foxglove messages into a recording that has Foxglove channels.
+    type View: Copy;
     fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError>;
     /// Schema name and text of the recorded samples.
     fn schema() -> (String, String);
     fn rejected_total(&self) -> u64;
 }
 
+/// A message's Foxglove messages into the recording.
+pub type MessageView<M> = fn(&mut McapRecording, &M);
+/// A slice's Foxglove messages into the recording.
+pub type SliceView<H> = fn(&mut McapRecording, &H, &[<H as SliceHeader>::Element]);
+
 impl<M: Message + ZeroCopySend + WireBytes> TapPort for Subscriber<M> {
+    type View = MessageView<M>;
+
     fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError> {
         Ok(Subscriber::open(&context.node, spec)?)
     }
@@ -54,6 +66,8 @@ impl<H: SliceHeader + ZeroCopySend + WireBytes> TapPort for SliceSubscriber<H>
 where
     H::Element: ZeroCopySend + WireBytes,
 {
+    type View = SliceView<H>;
+
     fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError> {
         Ok(SliceSubscriber::open(&context.node, spec)?)
     }
@@ -87,7 +101,16 @@ impl<P: TapPort> Tap<P> {
         Ok(Self {
             subscriber,
             channel: channels.len() - 1,
+            view: None,
         })
+    }
+
+    /// The tap, adding `view`'s Foxglove messages of each sample to the recording.
+    fn with_view(self, view: P::View) -> Self {
+        Self {
+            view: Some(view),
+            ..self
+        }
     }
 
     fn rejected(&self) -> u64 {
@@ -105,6 +128,9 @@ impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
         while let Some(message) = self.subscriber.receive()? {
             if let Some(recording) = recording {
                 recording.record_message(self.channel, &message);
+                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
+                    view(recording, &message);
+                }
             }
             also(&message)?;
         }
@@ -125,6 +151,9 @@ where
         while let Some(sample) = self.subscriber.receive()? {
             if let Some(recording) = recording {
                 recording.record_slice(self.channel, sample.header(), sample.elements());
+                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
+                    view(recording, sample.header(), sample.elements());
+                }
             }
             also(&sample)?;
         }
@@ -160,20 +189,28 @@ impl Taps {
     pub fn open(context: &ProcessContext) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
         let mut channels = Vec::new();
         let taps = Self {
-            body_states: MessageTap::open(context, &topics::BODY_STATES, &mut channels)?,
+            body_states: MessageTap::open(context, &topics::BODY_STATES, &mut channels)?
+                .with_view(views::truth),
             altimeter: MessageTap::open(context, &topics::ALTIMETER, &mut channels)?,
             imu: MessageTap::open(context, &topics::IMU, &mut channels)?,
             physics_state: MessageTap::open(context, &topics::PHYSICS_STATE, &mut channels)?,
             hop_launches: MessageTap::open(context, &topics::HOP_LAUNCH, &mut channels)?,
-            jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?,
-            rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?,
-            jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?,
-            rover_poses: MessageTap::open(context, &topics::ROVER_POSE, &mut channels)?,
-            jumper_clouds: SliceTap::open(context, &topics::JUMPER_CLOUD, &mut channels)?,
-            rover_clouds: SliceTap::open(context, &topics::ROVER_CLOUD, &mut channels)?,
+            jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?
+                .with_view(views::images),
+            rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?
+                .with_view(views::images),
+            jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?
+                .with_view(views::estimate),
+            rover_poses: MessageTap::open(context, &topics::ROVER_POSE, &mut channels)?
+                .with_view(views::estimate),
+            jumper_clouds: SliceTap::open(context, &topics::JUMPER_CLOUD, &mut channels)?
+                .with_view(views::cloud),
+            rover_clouds: SliceTap::open(context, &topics::ROVER_CLOUD, &mut channels)?
+                .with_view(views::cloud),
             map_updates: SliceTap::open(context, &topics::MAP_UPDATES, &mut channels)?,
-            map_snapshots: SliceTap::open(context, &topics::MAP_SNAPSHOT, &mut channels)?,
-            paths: SliceTap::open(context, &topics::PATH, &mut channels)?,
+            map_snapshots: SliceTap::open(context, &topics::MAP_SNAPSHOT, &mut channels)?
+                .with_view(views::map),
+            paths: SliceTap::open(context, &topics::PATH, &mut channels)?.with_view(views::path),
             drive_commands: MessageTap::open(context, &topics::DRIVE_COMMAND, &mut channels)?,
             jump_requests: MessageTap::open(context, &topics::JUMP_REQUEST, &mut channels)?,
             control: MessageTap::open(context, &topics::CONTROL, &mut channels)?,

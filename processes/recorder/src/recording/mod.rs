@@ -1,14 +1,19 @@
 //! The MCAP recording (`hopnav launch --record FILE.mcap`): every tapped topic as its own
 //! channel, each message in hopnav's wire encoding ([`hopnav_ipc::wire`]: the bytes as they
 //! lie in shared memory, so a replay is lossless), lz4-compressed chunks, and the launch's
-//! config and the build's commit as metadata.
+//! config and the build's commit as metadata. Beside them, unless the config turns them off,
+//! the same data in Foxglove's well-known messages ([`foxglove_view`]), so the file opens in
+//! Foxglove with its images, clouds, frames, map and path.
 //!
 //! A write error (a full disk) stops the recording, not the recorder: it is named on stderr
 //! and in the summary, and the mission goes on.
 
+mod foxglove_channels;
+pub mod foxglove_view;
 mod summary;
 mod writer;
 
+pub use foxglove_channels::FoxgloveTopic;
 pub use summary::{ChannelSummary, RecordingSummary};
 pub use writer::{ChannelSpec, McapRecording, check_writable};
 

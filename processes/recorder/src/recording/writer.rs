@@ -9,6 +9,7 @@ use hopnav_ipc::messages::SampleStamp;
 use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
+use super::foxglove_channels::FoxgloveTopic;
 use super::summary::{ChannelSummary, RecordingSummary};
 use crate::{RecorderError, RecordingError};
 
@@ -52,6 +53,9 @@ pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
     path: PathBuf,
     writer: Option<mcap::Writer<W>>,
     channels: Vec<ChannelCount>,
+    /// The Foxglove channels' MCAP ids and message counts, indexed like
+    /// [`FoxgloveTopic::ALL`]; empty when the recording has none.
+    foxglove: Vec<(u16, u64)>,
     /// Why the recording stopped early.
     failure: Option<String>,
     /// One message's bytes, reused.
@@ -102,14 +106,16 @@ pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
 }
 
 impl McapRecording {
-    /// Creates `path` with one channel per spec (indexed as given) and the metadata records.
+    /// Creates `path` with one channel per spec (indexed as given), the Foxglove channels if
+    /// `foxglove`, and the metadata records.
     pub fn create(
         path: &Path,
         channels: &[ChannelSpec],
+        foxglove: bool,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let file = File::create(path).map_err(unwritable(path))?;
-        Self::into_sink(path, BufWriter::new(file), channels, metadata)
+        Self::into_sink(path, BufWriter::new(file), channels, foxglove, metadata)
     }
 }
 
@@ -119,6 +125,7 @@ impl<W: Write + Seek> McapRecording<W> {
         path: &Path,
         sink: W,
         channels: &[ChannelSpec],
+        foxglove: bool,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let mcap_error = |error: mcap::McapError| {
@@ -157,6 +164,24 @@ impl<W: Write + Seek> McapRecording<W> {
                 last_sequence: None,
             });
         }
+        let mut foxglove_ids = Vec::new();
+        for topic in FoxgloveTopic::ALL.into_iter().filter(|_| foxglove) {
+            let schema_id = match topic.schema() {
+                Some(schema) => writer
+                    .add_schema(&schema.name, &schema.encoding, &schema.data)
+                    .map_err(mcap_error)?,
+                None => 0,
+            };
+            let mcap_id = writer
+                .add_channel(
+                    schema_id,
+                    topic.topic(),
+                    &topic.message_encoding(),
+                    &BTreeMap::new(),
+                )
+                .map_err(mcap_error)?;
+            foxglove_ids.push((mcap_id, 0));
+        }
         for (name, entries) in metadata {
             writer
                 .write_metadata(&mcap::records::Metadata {
@@ -169,6 +194,7 @@ impl<W: Write + Seek> McapRecording<W> {
             path: path.to_owned(),
             writer: Some(writer),
             channels: counts,
+            foxglove: foxglove_ids,
             failure: None,
             buffer: Vec::new(),
         })
@@ -196,24 +222,67 @@ impl<W: Write + Seek> McapRecording<W> {
         self.write(channel, *header.stamp());
     }
 
+    /// Whether the recording has Foxglove channels (and still writes): converting a sample
+    /// for them is worth it.
+    pub fn writes_foxglove(&self) -> bool {
+        !self.foxglove.is_empty() && self.writer.is_some()
+    }
+
+    /// Records `message` on the Foxglove channel `topic` at the sample's sim time (nothing
+    /// when the recording has no Foxglove channels).
+    pub fn record_foxglove(
+        &mut self,
+        topic: FoxgloveTopic,
+        stamp: SampleStamp,
+        message: &impl foxglove::Encode,
+    ) {
+        let index = FoxgloveTopic::ALL
+            .iter()
+            .position(|&known| known == topic)
+            .unwrap_or(usize::MAX);
+        let (Some(&(mcap_id, _)), Some(_)) = (self.foxglove.get(index), &self.writer) else {
+            return;
+        };
+        self.buffer.clear();
+        if message.encode(&mut self.buffer).is_err() {
+            // A protobuf message encodes into a growable buffer; nothing is lost if not.
+            return;
+        }
+        if self.write_bytes(mcap_id, stamp) {
+            self.foxglove[index].1 += 1;
+        }
+    }
+
+    /// Writes `self.buffer` on MCAP channel `mcap_id`; false (and the recording stopped)
+    /// on a write error.
+    fn write_bytes(&mut self, mcap_id: u16, stamp: SampleStamp) -> bool {
+        let Some(writer) = &mut self.writer else {
+            return false;
+        };
+        let header = mcap::records::MessageHeader {
+            channel_id: mcap_id,
+            sequence: u32::try_from(stamp.frame_index).unwrap_or(u32::MAX),
+            log_time: stamp.sim_time_ns,
+            publish_time: stamp.sim_time_ns,
+        };
+        match writer.write_to_known_channel(&header, &self.buffer) {
+            Ok(()) => true,
+            Err(error) => {
+                self.fail(&error);
+                false
+            }
+        }
+    }
+
     /// Writes `self.buffer` stamped with the sample's sim time and frame.
     fn write(&mut self, channel: usize, stamp: SampleStamp) {
         let Some(count) = self.channels.get_mut(channel) else {
             return;
         };
         count.note_sequence(stamp.sequence);
-        let Some(writer) = &mut self.writer else {
-            return;
-        };
-        let header = mcap::records::MessageHeader {
-            channel_id: count.mcap_id,
-            sequence: u32::try_from(stamp.frame_index).unwrap_or(u32::MAX),
-            log_time: stamp.sim_time_ns,
-            publish_time: stamp.sim_time_ns,
-        };
-        match writer.write_to_known_channel(&header, &self.buffer) {
-            Ok(()) => count.messages += 1,
-            Err(error) => self.fail(&error),
+        let mcap_id = count.mcap_id;
+        if self.write_bytes(mcap_id, stamp) {
+            self.channels[channel].messages += 1;
         }
     }
 
@@ -264,6 +333,19 @@ impl<W: Write + Seek> McapRecording<W> {
                     missed: count.missed,
                     rejected: rejected.get(index).copied().unwrap_or(0),
                 })
+                .chain(self.foxglove.iter().zip(FoxgloveTopic::ALL).map(
+                    |(&(_, messages), topic)| {
+                        ChannelSummary {
+                            topic: topic.topic().to_owned(),
+                            schema: topic
+                                .schema()
+                                .map_or_else(String::new, |schema| schema.name),
+                            messages,
+                            missed: 0,
+                            rejected: 0,
+                        }
+                    },
+                ))
                 .collect(),
             error: self.failure.clone(),
         }

@@ -55,7 +55,8 @@ fn synthetic_messages_read_back_with_schemas_times_and_metadata() {
         "hopnav.build",
         BTreeMap::from([("commit".to_owned(), "abc123".to_owned())]),
     )];
-    let mut recording = McapRecording::create(&path, &channels(), &metadata).expect("create");
+    let mut recording =
+        McapRecording::create(&path, &channels(), false, &metadata).expect("create");
     // Frames 0..5 of poses with frame 3 missing from the sequence; three images.
     for frame in [0, 1, 2, 4] {
         recording.record_message(0, &pose(frame, frame + 10));
@@ -138,7 +139,7 @@ fn bad_paths_are_errors_that_name_the_path() {
         error.to_string().contains(&missing.display().to_string()),
         "{error}"
     );
-    let error = McapRecording::create(&missing, &channels(), &[])
+    let error = McapRecording::create(&missing, &channels(), false, &[])
         .err()
         .expect("create fails");
     assert!(error.to_string().contains("no-such-folder"), "{error}");
@@ -183,7 +184,8 @@ fn a_full_disk_stops_the_recording_with_an_error_not_a_panic() {
         capacity_bytes: 2 << 20,
     };
     let path = Path::new("/full/disk.mcap");
-    let mut recording = McapRecording::into_sink(path, disk, &channels(), &[]).expect("create");
+    let mut recording =
+        McapRecording::into_sink(path, disk, &channels(), false, &[]).expect("create");
     // 40 images of 100 kB do not fit in 2 MB, even compressed (the pixels are noise).
     let mut state = 0x2545_f491_u32;
     for frame in 0..40 {
@@ -205,4 +207,65 @@ fn a_full_disk_stops_the_recording_with_an_error_not_a_panic() {
     assert!(error.contains("no storage space"), "{error}");
     assert!(summary.channels[1].messages < 40);
     assert_eq!(summary.channels[0].messages, 0);
+}
+
+#[test]
+fn foxglove_messages_read_back_as_their_protobuf_types() {
+    use foxglove::messages::{FrameTransforms, RawImage};
+    use prost::Message as _;
+
+    let path = temp_path("foxglove.mcap");
+    let mut recording = McapRecording::create(&path, &channels(), true, &[]).expect("create");
+    assert!(recording.writes_foxglove());
+    let (header, pixels) = image(2, 8);
+    for frame in 0..3 {
+        let pose = pose(frame, frame);
+        recording.record_message(0, &pose);
+        let transforms = crate::recording::foxglove_view::estimate(&PoseEstimate {
+            robot: hopnav_ipc::messages::Robot::Rover.code(),
+            ..pose
+        })
+        .expect("a rover pose");
+        recording.record_foxglove(FoxgloveTopic::Transforms, pose.stamp, &transforms);
+    }
+    let raw = crate::recording::foxglove_view::image(&header, &pixels, 0).expect("view");
+    recording.record_foxglove(FoxgloveTopic::JumperImage, header.stamp, &raw);
+    let summary = recording.finish(&[0, 0]);
+    assert_eq!(summary.error, None);
+    let count = |topic: &str| {
+        summary
+            .channels
+            .iter()
+            .find(|channel| channel.topic == topic)
+            .map(|channel| (channel.schema.clone(), channel.messages))
+    };
+    assert_eq!(
+        count("/foxglove/tf"),
+        Some(("foxglove.FrameTransforms".into(), 3))
+    );
+    assert_eq!(count("/foxglove/map"), Some(("foxglove.Grid".into(), 0)));
+
+    let bytes = std::fs::read(&path).expect("read file");
+    let mut frames = Vec::new();
+    for message in mcap::MessageStream::new(&bytes).expect("stream") {
+        let message = message.expect("valid message");
+        let schema = message.channel.schema.as_ref().expect("schema");
+        match message.channel.topic.as_str() {
+            "/foxglove/tf" => {
+                assert_eq!(schema.encoding, "protobuf");
+                let decoded = FrameTransforms::decode(&message.data[..]).expect("protobuf");
+                let only = &decoded.transforms[0];
+                assert_eq!(only.child_frame_id, "rover_vo");
+                frames.push(only.translation.as_ref().map_or(-1.0, |t| t.x));
+            }
+            "/foxglove/jumper/image" => {
+                let decoded = RawImage::decode(&message.data[..]).expect("protobuf");
+                assert_eq!((decoded.width, decoded.encoding.as_str()), (8, "mono8"));
+                assert_eq!(&decoded.data[..], &pixels[..]);
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(frames, [0.0, 1.0, 2.0]);
+    std::fs::remove_file(&path).expect("cleanup");
 }

@@ -1,0 +1,66 @@
+//! Each tapped topic's Foxglove messages, written beside its own channel.
+
+use hopnav_ipc::messages::{
+    BodyStates, CellUpdate, CloudHeader, FeaturePoint, ImageHeader, MapHeader, PathHeader,
+    PathPoint, PoseEstimate, Robot,
+};
+
+use crate::recording::foxglove_view as view;
+use crate::recording::{FoxgloveTopic, McapRecording};
+
+/// Both robots' true poses.
+pub fn truth(recording: &mut McapRecording, states: &BodyStates) {
+    recording.record_foxglove(
+        FoxgloveTopic::Transforms,
+        states.stamp,
+        &view::truth(states),
+    );
+}
+
+/// A VO's pose estimate.
+pub fn estimate(recording: &mut McapRecording, pose: &PoseEstimate) {
+    if let Some(transforms) = view::estimate(pose) {
+        recording.record_foxglove(FoxgloveTopic::Transforms, pose.stamp, &transforms);
+    }
+}
+
+/// The jumper's image, or both views of the rover's stereo pair.
+pub fn images(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
+    let topics = match Robot::from_code(header.robot) {
+        Some(Robot::Jumper) => [Some(FoxgloveTopic::JumperImage), None],
+        _ => [
+            Some(FoxgloveTopic::RoverLeftImage),
+            Some(FoxgloveTopic::RoverRightImage),
+        ],
+    };
+    for (view_index, topic) in (0..).zip(topics) {
+        if let (Some(topic), Some(image)) = (topic, view::image(header, pixels, view_index)) {
+            recording.record_foxglove(topic, header.stamp, &image);
+        }
+    }
+}
+
+/// A VO's keyframe cloud.
+pub fn cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
+    let topic = match Robot::from_code(header.robot) {
+        Some(Robot::Jumper) => FoxgloveTopic::JumperCloud,
+        _ => FoxgloveTopic::RoverCloud,
+    };
+    recording.record_foxglove(topic, header.stamp, &view::cloud(header, points));
+}
+
+/// A whole-map snapshot.
+pub fn map(recording: &mut McapRecording, header: &MapHeader, cells: &[CellUpdate]) {
+    if let Some(grid) = view::map(header, cells) {
+        recording.record_foxglove(FoxgloveTopic::Map, header.stamp, &grid);
+    }
+}
+
+/// The planner's path.
+pub fn path(recording: &mut McapRecording, header: &PathHeader, points: &[PathPoint]) {
+    recording.record_foxglove(
+        FoxgloveTopic::Path,
+        header.stamp,
+        &view::path(header, points),
+    );
+}

@@ -20,6 +20,10 @@ use crate::top_table::{Identify, ProcSample, ProcessTable};
 use crate::topic_cmd::watch_failed;
 use crate::topic_window::{WindowArgs, continue_until, exit_code};
 
+/// A process that sent no heartbeat for this long shows as silent (it heartbeats at least
+/// every period while idle).
+const SILENT_AFTER_NS: u64 = 2_000_000_000;
+
 #[derive(Debug, Args)]
 pub struct TopArgs {
     #[command(flatten)]
@@ -37,7 +41,7 @@ pub fn run(args: &TopArgs) -> ExitCode {
     };
     let started_ns = hopnav_ipc::stamp::monotonic_now_ns();
     let mut monitor = Monitor {
-        table: ProcessTable::new(args.window.window_ns()),
+        table: ProcessTable::new(args.window.window_ns(), SILENT_AFTER_NS),
         identities: ProcIdentities::default(),
         run_id: namespace.run_id().to_owned(),
         redraw: !args.no_redraw && std::io::stdout().is_terminal(),
@@ -80,11 +84,11 @@ impl Watcher for Monitor {
         }
         let elapsed_s = now_ns.saturating_sub(self.started_ns) as f64 * 1e-9;
         println!(
-            "launch {}: {elapsed_s:.0} s watched (OVER: frames over budget / frames seen; \
-             RESTARTS: starts of the slot before this one)",
+            "launch {}: {elapsed_s:.0} s watched (CPU%: of one core over the last second; \
+             OVER: frames over budget / frames seen; RESTARTS: starts of the slot before this one)",
             self.run_id
         );
-        print!("{}", self.table.render(now_ns, 2_000_000_000));
+        print!("{}", self.table.render(now_ns));
         if !self.redraw {
             println!();
         }
@@ -145,12 +149,12 @@ fn budgets(path: &Path) -> Option<HashMap<String, f64>> {
     )
 }
 
-/// CPU time (`/proc/PID/schedstat`, nanoseconds on the CPU) and resident memory
-/// (`/proc/PID/status`, VmRSS) of `pid`; what cannot be read stays unknown.
+/// CPU time of every thread of `pid`, living or exited (`/proc/PID/stat`), and its resident
+/// memory (`/proc/PID/status`, VmRSS); what cannot be read stays unknown.
 fn read_proc(pid: u32) -> ProcSample {
-    let cpu_ns = std::fs::read_to_string(format!("/proc/{pid}/schedstat"))
+    let cpu_ns = std::fs::read_to_string(format!("/proc/{pid}/stat"))
         .ok()
-        .and_then(|text| text.split_whitespace().next()?.parse().ok());
+        .and_then(|text| cpu_ns_of_stat(&text, clock_ticks_per_s()));
     let resident_bytes = std::fs::read_to_string(format!("/proc/{pid}/status"))
         .ok()
         .and_then(|text| vm_rss_bytes(&text));
@@ -158,6 +162,32 @@ fn read_proc(pid: u32) -> ProcSample {
         cpu_ns,
         resident_bytes,
     }
+}
+
+/// Clock ticks per second of `/proc/PID/stat`'s times (USER_HZ; 100 if unknown).
+fn clock_ticks_per_s() -> u64 {
+    // SAFETY: sysconf reads a constant of the system; it has no preconditions.
+    let ticks = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
+    u64::try_from(ticks)
+        .ok()
+        .filter(|&ticks| ticks > 0)
+        .unwrap_or(100)
+}
+
+/// utime + stime (fields 14 and 15) of a `/proc/PID/stat` text, nanoseconds. The fields are
+/// counted after the command name's closing parenthesis: the name may hold spaces.
+fn cpu_ns_of_stat(stat: &str, ticks_per_s: u64) -> Option<u64> {
+    let after_name = stat.get(stat.rfind(')')? + 1..)?;
+    // Field 3 (the state) comes first, so field 14 is the twelfth.
+    let mut fields = after_name.split_whitespace().skip(11);
+    let user_ticks: u64 = fields.next()?.parse().ok()?;
+    let system_ticks: u64 = fields.next()?.parse().ok()?;
+    let ns_per_tick = 1_000_000_000 / ticks_per_s.max(1);
+    Some(
+        user_ticks
+            .saturating_add(system_ticks)
+            .saturating_mul(ns_per_tick),
+    )
 }
 
 /// The `VmRSS:` line of a `/proc/PID/status` text, in bytes.
@@ -199,9 +229,38 @@ mod tests {
     }
 
     #[test]
-    fn this_process_can_be_read_and_an_absent_one_is_unknown() {
+    fn cpu_time_sums_user_and_system_ticks_after_the_name() {
+        let stat = "42 (a (b) c) S 1 42 42 0 -1 4194560 1 0 0 0 250 50 0 0 20 0 3 0";
+        assert_eq!(cpu_ns_of_stat(stat, 100), Some(3_000_000_000));
+        assert_eq!(cpu_ns_of_stat("42 (x) S 1 2", 100), None);
+        assert_eq!(cpu_ns_of_stat("garbage", 100), None);
+    }
+
+    #[test]
+    fn a_busy_thread_counts_in_this_process_and_an_absent_one_is_unknown() {
+        use std::sync::atomic::{AtomicBool, Ordering};
         let me = read_proc(std::process::id());
         assert!(me.resident_bytes.is_some_and(|bytes| bytes > 0));
+        let before = me.cpu_ns.expect("cpu time of this process");
+        let stop = std::sync::Arc::new(AtomicBool::new(false));
+        let busy = {
+            let stop = stop.clone();
+            std::thread::spawn(move || {
+                let mut x = 0u64;
+                while !stop.load(Ordering::Relaxed) {
+                    x = std::hint::black_box(x.wrapping_add(1));
+                }
+            })
+        };
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+        let mut grew = false;
+        while !grew && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            grew = read_proc(std::process::id()).cpu_ns > Some(before);
+        }
+        stop.store(true, Ordering::Relaxed);
+        busy.join().expect("busy thread");
+        assert!(grew, "a spinning thread's time is not counted");
         let gone = read_proc(u32::MAX);
         assert_eq!((gone.cpu_ns, gone.resident_bytes), (None, None));
     }

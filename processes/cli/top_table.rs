@@ -11,7 +11,7 @@ use crate::text_table::align_columns;
 /// What the kernel says of one OS process at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProcSample {
-    /// CPU time the process has used so far (all its threads), nanoseconds.
+    /// CPU time the process has used so far (all its threads, exited ones too), nanoseconds.
     pub cpu_ns: Option<u64>,
     /// Resident memory, bytes.
     pub resident_bytes: Option<u64>,
@@ -21,6 +21,8 @@ pub struct ProcSample {
 #[derive(Debug, Clone)]
 struct ProcessRow {
     name: String,
+    /// The name came from the process itself (else it is the slot's, and is asked again).
+    identified: bool,
     pid: u32,
     incarnation: u32,
     state: u32,
@@ -40,6 +42,7 @@ struct ProcessRow {
 #[derive(Debug, Clone)]
 pub struct ProcessTable {
     window_ns: u64,
+    silent_after_ns: u64,
     rows: BTreeMap<u32, ProcessRow>,
 }
 
@@ -50,10 +53,13 @@ pub trait Identify {
 }
 
 impl ProcessTable {
-    /// An empty table whose frame-time percentiles cover the last `window_ns`.
-    pub fn new(window_ns: u64) -> Self {
+    /// An empty table whose frame-time percentiles cover the last `window_ns`; a process
+    /// without a heartbeat for `silent_after_ns` shows as silent, and its pid (which the
+    /// system may give to another process) is no longer read.
+    pub fn new(window_ns: u64, silent_after_ns: u64) -> Self {
         Self {
             window_ns,
+            silent_after_ns,
             rows: BTreeMap::new(),
         }
     }
@@ -66,6 +72,7 @@ impl ProcessTable {
             .entry(heartbeat.slot)
             .or_insert_with(|| ProcessRow {
                 name: String::new(),
+                identified: false,
                 pid: 0,
                 incarnation: 0,
                 state: heartbeat.state,
@@ -78,14 +85,18 @@ impl ProcessTable {
                 cpu_percent: None,
                 resident_bytes: None,
             });
-        if row.pid != heartbeat.pid || row.name.is_empty() {
-            let (name, budget_ns) = who.identify(heartbeat.pid);
-            row.name = name.unwrap_or_else(|| format!("slot {}", heartbeat.slot));
-            row.budget_ns = budget_ns;
+        if row.pid != heartbeat.pid {
             row.pid = heartbeat.pid;
+            row.identified = false;
             row.frames.clear();
             row.last_proc = None;
             row.cpu_percent = None;
+        }
+        if !row.identified {
+            let (name, budget_ns) = who.identify(heartbeat.pid);
+            row.identified = name.is_some();
+            row.name = name.unwrap_or_else(|| format!("slot {}", heartbeat.slot));
+            row.budget_ns = budget_ns;
         }
         row.incarnation = heartbeat.incarnation;
         row.state = heartbeat.state;
@@ -114,6 +125,10 @@ impl ProcessTable {
             {
                 row.frames.pop_front();
             }
+            if now_ns.saturating_sub(row.last_heartbeat_ns) > self.silent_after_ns {
+                (row.last_proc, row.cpu_percent, row.resident_bytes) = (None, None, None);
+                continue;
+            }
             let current = sample(row.pid);
             row.resident_bytes = current.resident_bytes;
             row.cpu_percent = match (row.last_proc, current.cpu_ns) {
@@ -135,9 +150,8 @@ impl ProcessTable {
         }
     }
 
-    /// The table as printed: one line per process, columns aligned; a process silent for
-    /// more than `silent_after_ns` reads "silent".
-    pub fn render(&self, now_ns: u64, silent_after_ns: u64) -> String {
+    /// The table as printed: one line per process, columns aligned.
+    pub fn render(&self, now_ns: u64) -> String {
         let mut lines = vec![
             [
                 "PROCESS", "PID", "STATE", "CPU%", "RSS", "P50 MS", "P99 MS", "BUDGET", "OVER",
@@ -151,7 +165,7 @@ impl ProcessTable {
             let ms = |value: Option<u64>| {
                 value.map_or("-".to_owned(), |ns| format!("{:.2}", ns as f64 * 1e-6))
             };
-            let state = if now_ns.saturating_sub(row.last_heartbeat_ns) > silent_after_ns {
+            let state = if now_ns.saturating_sub(row.last_heartbeat_ns) > self.silent_after_ns {
                 "silent".to_owned()
             } else {
                 state_name(row.state)
@@ -171,7 +185,7 @@ impl ProcessTable {
                 row.incarnation.to_string(),
             ]);
         }
-        align_columns(&lines, |column| column > 2)
+        align_columns(&lines, |column| column == 1 || column > 2)
     }
 }
 
@@ -232,12 +246,12 @@ mod tests {
 
     #[test]
     fn frame_times_give_percentiles_and_budget_misses() {
-        let mut table = ProcessTable::new(10_000 * MS);
+        let mut table = ProcessTable::new(10_000 * MS, 1_000 * MS);
         for i in 0..100 {
             let time_ns = if i == 7 { 20 * MS } else { (1 + i % 5) * MS };
             table.on_heartbeat(&completed(3, 10, 0, time_ns), i * 100 * MS, &mut Known);
         }
-        let text = table.render(9_900 * MS, 1_000 * MS);
+        let text = table.render(9_900 * MS);
         let mapper = row(&text, "mapper");
         assert_eq!(mapper[1..3], ["10", "running"], "{text}");
         assert_eq!(
@@ -249,10 +263,10 @@ mod tests {
 
     #[test]
     fn a_restart_starts_the_row_anew_but_keeps_the_slots_misses() {
-        let mut table = ProcessTable::new(10_000 * MS);
+        let mut table = ProcessTable::new(10_000 * MS, 1_000 * MS);
         table.on_heartbeat(&completed(3, 10, 0, 30 * MS), 0, &mut Known);
         table.on_heartbeat(&completed(3, 11, 1, 2 * MS), 100 * MS, &mut Known);
-        let text = table.render(200 * MS, 1_000 * MS);
+        let text = table.render(200 * MS);
         let mapper = row(&text, "mapper");
         assert_eq!(mapper[1], "11");
         assert_eq!(mapper[5..], ["2.00", "2.00", "15.00", "1/2", "1"], "{text}");
@@ -260,8 +274,7 @@ mod tests {
 
     #[test]
     fn cpu_share_comes_from_two_kernel_samples_and_silence_is_shown() {
-        let mut table = ProcessTable::new(10_000 * MS);
-        table.on_heartbeat(&completed(0, 99, 0, MS), 0, &mut Known);
+        let mut table = ProcessTable::new(10_000 * MS, 1_000 * MS);
         let mut cpu_ns = 0;
         let mut sample = |_pid| {
             cpu_ns += 250 * MS;
@@ -270,24 +283,53 @@ mod tests {
                 resident_bytes: Some(3 * 1024 * 1024),
             }
         };
-        table.refresh(1_000 * MS, &mut sample);
-        table.refresh(2_000 * MS, &mut sample);
-        let text = table.render(2_000 * MS, 1_000 * MS);
+        table.on_heartbeat(&completed(0, 99, 0, MS), 0, &mut Known);
+        table.refresh(500 * MS, &mut sample);
+        table.on_heartbeat(&completed(0, 99, 0, MS), 1_000 * MS, &mut Known);
+        table.refresh(1_500 * MS, &mut sample);
+        let text = table.render(1_500 * MS);
         let unknown = row(&text, "slot 0");
-        assert_eq!(unknown[2..6], ["99", "silent", "25.0", "3.00"], "{text}");
+        assert_eq!(unknown[2..6], ["99", "running", "25.0", "3.00"], "{text}");
         assert_eq!(unknown[9], "-", "no budget known: {text}");
+        // Silent: its pid is no longer read (the system may have given it to another).
+        table.refresh(3_000 * MS, &mut sample);
+        let text = table.render(3_000 * MS);
+        assert_eq!(row(&text, "slot 0")[3..5], ["silent", "-"], "{text}");
+    }
+
+    #[test]
+    fn a_process_not_yet_identified_is_asked_again() {
+        struct LateName(u32);
+        impl Identify for LateName {
+            fn identify(&mut self, _pid: u32) -> (Option<String>, Option<u64>) {
+                self.0 += 1;
+                match self.0 {
+                    1 => (None, None),
+                    _ => (Some("camera".to_owned()), Some(30 * MS)),
+                }
+            }
+        }
+        let mut table = ProcessTable::new(10_000 * MS, 1_000 * MS);
+        let mut who = LateName(0);
+        table.on_heartbeat(&completed(1, 7, 0, 40 * MS), 0, &mut who);
+        assert!(table.render(0).contains("slot 1"));
+        table.on_heartbeat(&completed(1, 7, 0, 40 * MS), 100 * MS, &mut who);
+        let text = table.render(100 * MS);
+        assert_eq!(row(&text, "camera")[7..9], ["30.00", "1/2"], "{text}");
+        table.on_heartbeat(&completed(1, 7, 0, MS), 200 * MS, &mut who);
+        assert_eq!(who.0, 2, "asked once more, then no longer");
     }
 
     #[test]
     fn old_frames_leave_the_window() {
-        let mut table = ProcessTable::new(1_000 * MS);
+        let mut table = ProcessTable::new(1_000 * MS, 1_000 * MS);
         table.on_heartbeat(&completed(3, 10, 0, 9 * MS), 0, &mut Known);
         table.on_heartbeat(&completed(3, 10, 0, MS), 5_000 * MS, &mut Known);
         table.refresh(5_000 * MS, &mut |_| ProcSample {
             cpu_ns: None,
             resident_bytes: None,
         });
-        let text = table.render(5_000 * MS, 1_000 * MS);
+        let text = table.render(5_000 * MS);
         let mapper = row(&text, "mapper");
         assert_eq!(mapper[5..7], ["1.00", "1.00"]);
         assert_eq!(percentile(&[], 0.5), None);

@@ -15,7 +15,8 @@ use crate::topic_cmd::{RunChoice, watch_failed};
 
 #[derive(Debug, Args)]
 pub struct WindowArgs {
-    /// Seconds of arrivals the figures printed every second cover.
+    /// Seconds of arrivals the windowed figures cover (a rate, a bandwidth, or `top`'s frame
+    /// time percentiles), printed every second.
     #[arg(long, default_value_t = 10.0, value_parser = positive_seconds)]
     pub window_s: f64,
     /// Stop after this many seconds (default: until Ctrl-C or the launch ends).

@@ -421,9 +421,9 @@ impl FeatureMap {
 
     /// Brings a copy of the cells' statistics and beliefs up to date, copying only the cells
     /// changed since the last call (every cell on the first call, after a restore, or when
-    /// `whole`: a copy this map did not fill before). Beliefs are copied only when `beliefs`
-    /// is as long as the map's. False, with nothing copied, when `stats` is not as long as
-    /// the map's: then the next call copies everything again.
+    /// `whole`: a copy this map did not fill before). False, with nothing copied, when
+    /// `stats` or (under the traversability model) `beliefs` is not as long as the map's:
+    /// then the next call copies everything again.
     ///
     /// The whole grid is megabytes, and the frame that copies it all overruns its budget.
     pub(crate) fn refresh_copy(
@@ -432,15 +432,11 @@ impl FeatureMap {
         beliefs: &mut [CellBelief],
         whole: bool,
     ) -> bool {
-        if stats.len() != self.stats.len() {
+        let layer = self.beliefs.as_ref().map(BeliefLayer::beliefs);
+        if stats.len() != self.stats.len() || layer.is_some_and(|l| l.len() != beliefs.len()) {
             self.unsaved_whole = true;
             return false;
         }
-        let layer = self
-            .beliefs
-            .as_ref()
-            .map(BeliefLayer::beliefs)
-            .filter(|layer| layer.len() == beliefs.len());
         if whole || self.unsaved_whole {
             stats.copy_from_slice(&self.stats);
             if let Some(layer) = layer {

@@ -229,10 +229,25 @@ mod tests {
     fn a_copy_of_another_size_is_refused_and_the_next_is_whole() {
         let mut map = traversability_map();
         let cells = map.stats_slice().len();
-        let mut beliefs = map.beliefs().expect("layer").beliefs().to_vec();
+        let layer_len = map.beliefs().expect("layer").beliefs().len();
+        let fresh = || {
+            (
+                vec![CellStats::default(); cells],
+                vec![CellBelief::default(); layer_len],
+            )
+        };
+        // A first copy taken and the cloud's cells classified: nothing is pending.
         map.insert_cloud(Robot::Rover, &rover_cloud((0.5, 1.0), 0.0));
-        assert!(!map.refresh_copy(&mut vec![CellStats::default(); 3], &mut beliefs, false));
-        let mut stats = vec![CellStats::default(); cells];
+        map.update();
+        let (mut stats, mut beliefs) = fresh();
+        assert!(map.refresh_copy(&mut stats, &mut beliefs, false));
+        // Copies of the wrong size, of stats or of beliefs, are refused ...
+        assert!(!map.refresh_copy(&mut [CellStats::default(); 3], &mut beliefs, false));
+        assert!(!map.refresh_copy(&mut stats, &mut [CellBelief::default(); 3], false));
+        // ... and the next copy is whole: a fresh buffer gets the first cloud's cells too.
+        map.insert_cloud(Robot::Rover, &rover_cloud((2.0, 2.5), 0.0));
+        map.update();
+        let (mut stats, mut beliefs) = fresh();
         assert!(map.refresh_copy(&mut stats, &mut beliefs, false));
         assert_eq!(stats, map.stats_slice());
     }

@@ -196,17 +196,17 @@ impl Taps {
             physics_state: MessageTap::open(context, &topics::PHYSICS_STATE, &mut channels)?,
             hop_launches: MessageTap::open(context, &topics::HOP_LAUNCH, &mut channels)?,
             jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?
-                .with_view(views::images),
+                .with_view(views::jumper_image),
             rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?
-                .with_view(views::images),
+                .with_view(views::rover_images),
             jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?
                 .with_view(views::estimate),
             rover_poses: MessageTap::open(context, &topics::ROVER_POSE, &mut channels)?
                 .with_view(views::estimate),
             jumper_clouds: SliceTap::open(context, &topics::JUMPER_CLOUD, &mut channels)?
-                .with_view(views::cloud),
+                .with_view(views::jumper_cloud),
             rover_clouds: SliceTap::open(context, &topics::ROVER_CLOUD, &mut channels)?
-                .with_view(views::cloud),
+                .with_view(views::rover_cloud),
             map_updates: SliceTap::open(context, &topics::MAP_UPDATES, &mut channels)?,
             map_snapshots: SliceTap::open(context, &topics::MAP_SNAPSHOT, &mut channels)?
                 .with_view(views::map),

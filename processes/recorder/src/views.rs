@@ -2,7 +2,7 @@
 
 use hopnav_ipc::messages::{
     BodyStates, CellUpdate, CloudHeader, FeaturePoint, ImageHeader, MapHeader, PathHeader,
-    PathPoint, PoseEstimate, Robot,
+    PathPoint, PoseEstimate,
 };
 
 use crate::recording::foxglove_view as view;
@@ -24,29 +24,36 @@ pub fn estimate(recording: &mut McapRecording, pose: &PoseEstimate) {
     }
 }
 
-/// The jumper's image, or both views of the rover's stereo pair.
-pub fn images(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
-    let topics = match Robot::from_code(header.robot) {
-        Some(Robot::Jumper) => [Some(FoxgloveTopic::JumperImage), None],
-        _ => [
-            Some(FoxgloveTopic::RoverLeftImage),
-            Some(FoxgloveTopic::RoverRightImage),
-        ],
-    };
+/// The jumper's image.
+pub fn jumper_image(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
+    if let Some(image) = view::image(header, pixels, 0) {
+        recording.record_foxglove(FoxgloveTopic::JumperImage, header.stamp, &image);
+    }
+}
+
+/// Both views of the rover's stereo pair.
+pub fn rover_images(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
+    let topics = [
+        FoxgloveTopic::RoverLeftImage,
+        FoxgloveTopic::RoverRightImage,
+    ];
     for (view_index, topic) in (0..).zip(topics) {
-        if let (Some(topic), Some(image)) = (topic, view::image(header, pixels, view_index)) {
+        if let Some(image) = view::image(header, pixels, view_index) {
             recording.record_foxglove(topic, header.stamp, &image);
         }
     }
 }
 
-/// A VO's keyframe cloud.
-pub fn cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
-    let topic = match Robot::from_code(header.robot) {
-        Some(Robot::Jumper) => FoxgloveTopic::JumperCloud,
-        _ => FoxgloveTopic::RoverCloud,
-    };
-    recording.record_foxglove(topic, header.stamp, &view::cloud(header, points));
+/// The jumper VO's keyframe cloud.
+pub fn jumper_cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
+    let cloud = view::cloud(header, points);
+    recording.record_foxglove(FoxgloveTopic::JumperCloud, header.stamp, &cloud);
+}
+
+/// The rover VO's keyframe cloud.
+pub fn rover_cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
+    let cloud = view::cloud(header, points);
+    recording.record_foxglove(FoxgloveTopic::RoverCloud, header.stamp, &cloud);
 }
 
 /// A whole-map snapshot.

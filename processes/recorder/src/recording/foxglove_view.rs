@@ -11,7 +11,7 @@ use foxglove::messages::{
 };
 use hopnav_ipc::messages::{
     BodyStates, CellClass, CellUpdate, CloudHeader, FeaturePoint, ImageHeader, MapHeader,
-    PathHeader, PathPoint, Pose3, PoseEstimate, Robot,
+    PathHeader, PathPoint, PixelFormat, Pose3, PoseEstimate, Robot,
 };
 
 /// The fixed frame every position is given in.
@@ -61,8 +61,11 @@ fn robot_frame(robot: Robot, truth: bool) -> String {
 }
 
 /// One view (`view` 0 = left or mono, 1 = right) of an image sample, or `None` when the
-/// sample has no such view or too few pixels for it.
+/// sample has no such view, too few pixels for it, or a pixel format Foxglove is not told of.
 pub fn image(header: &ImageHeader, pixels: &[u8], view: u32) -> Option<RawImage> {
+    let encoding = match PixelFormat::from_code(header.format)? {
+        PixelFormat::Mono8 => "mono8",
+    };
     if view >= header.view_count {
         return None;
     }
@@ -80,7 +83,7 @@ pub fn image(header: &ImageHeader, pixels: &[u8], view: u32) -> Option<RawImage>
         frame_id: camera.to_owned(),
         width: header.width_px,
         height: header.height_px,
-        encoding: "mono8".to_owned(),
+        encoding: encoding.to_owned(),
         step: header.stride_bytes,
         data: data.to_vec().into(),
     })
@@ -233,6 +236,7 @@ mod tests {
             stride_bytes: 2,
             view_count: 2,
             robot: Robot::Rover.code(),
+            format: PixelFormat::Mono8.code(),
             ..ImageHeader::default()
         };
         let pixels = [1, 2, 3, 4, 5, 6, 7, 8];
@@ -242,6 +246,11 @@ mod tests {
         assert_eq!(right.timestamp, Some(Timestamp::new(12, 500_000_000)));
         assert!(image(&header, &pixels, 2).is_none());
         assert!(image(&header, &pixels[..6], 1).is_none(), "short slice");
+        let unknown_format = ImageHeader {
+            format: 99,
+            ..header
+        };
+        assert!(image(&unknown_format, &pixels, 0).is_none());
     }
 
     #[test]

@@ -38,6 +38,7 @@ fn image(frame: u64, side_px: u32) -> (ImageHeader, Vec<u8>) {
     header.height_px = side_px;
     header.stride_bytes = side_px;
     header.view_count = 1;
+    header.format = hopnav_ipc::messages::PixelFormat::Mono8.code();
     let pixels = (0..side_px * side_px).map(|i| (i % 251) as u8).collect();
     (header, pixels)
 }

@@ -9,16 +9,14 @@ use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Duration;
 
 use clap::Args;
-use hopnav_ipc::live::{self, TapSample, Watcher, fixed_message};
+use hopnav_ipc::live::{TapSample, Watcher, fixed_message};
 use hopnav_ipc::messages::Heartbeat;
 use hopnav_ipc::topics;
 
 use crate::top_table::{Identify, ProcSample, ProcessTable};
-use crate::topic_cmd::watch_failed;
-use crate::topic_window::{WindowArgs, continue_until, exit_code};
+use crate::topic_window::{WindowArgs, continue_until, exit_code, watch_topic};
 
 /// A process that sent no heartbeat for this long shows as silent (it heartbeats at least
 /// every period while idle).
@@ -35,28 +33,26 @@ pub struct TopArgs {
 }
 
 pub fn run(args: &TopArgs) -> ExitCode {
-    let (namespace, topic) = match args.window.run.topic(&topics::HEARTBEAT.name) {
-        Ok(found) => found,
+    let watched = watch_topic(
+        &args.window,
+        &topics::HEARTBEAT.name,
+        |namespace, started_ns| Monitor {
+            table: ProcessTable::new(args.window.window_ns(), SILENT_AFTER_NS),
+            identities: ProcIdentities::default(),
+            run_id: namespace.run_id().to_owned(),
+            redraw: !args.no_redraw && std::io::stdout().is_terminal(),
+            started_ns,
+            stop_ns: args.window.stop_ns(started_ns),
+        },
+    );
+    let watched = match watched {
+        Ok(watched) => watched,
         Err(code) => return code,
     };
-    let started_ns = hopnav_ipc::stamp::monotonic_now_ns();
-    let mut monitor = Monitor {
-        table: ProcessTable::new(args.window.window_ns(), SILENT_AFTER_NS),
-        identities: ProcIdentities::default(),
-        run_id: namespace.run_id().to_owned(),
-        redraw: !args.no_redraw && std::io::stdout().is_terminal(),
-        started_ns,
-        stop_ns: args.window.stop_ns(started_ns),
-    };
-    let watched = live::watch(&namespace, &topic, Duration::from_secs(1), &mut monitor);
-    let (end, rejected) = match watched {
-        Ok(result) => result,
-        Err(error) => return watch_failed(&namespace, &topic.spec.name, error),
-    };
-    if rejected.total() > 0 {
-        eprintln!("{} heartbeats rejected", rejected.total());
+    if watched.rejected.total() > 0 {
+        eprintln!("{} heartbeats rejected", watched.rejected.total());
     }
-    exit_code(&namespace, end)
+    exit_code(&watched.namespace, watched.end)
 }
 
 struct Monitor {

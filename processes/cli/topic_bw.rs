@@ -20,7 +20,7 @@ pub struct BwArgs {
 }
 
 pub fn run(args: &BwArgs) -> ExitCode {
-    let watched = match watch_topic(&args.window, &args.topic, |started_ns| ByteMeter {
+    let watched = match watch_topic(&args.window, &args.topic, |_, started_ns| ByteMeter {
         window: ByteWindow::new(args.window.window_ns()),
         window_s: args.window.window_s,
         totals: ByteTotals::default(),

@@ -17,7 +17,7 @@ pub struct HzArgs {
 }
 
 pub fn run(args: &HzArgs) -> ExitCode {
-    let watched = match watch_topic(&args.window, &args.topic, |started_ns| RateMeter {
+    let watched = match watch_topic(&args.window, &args.topic, |_, started_ns| RateMeter {
         window: ArrivalWindow::new(args.window.window_ns()),
         window_s: args.window.window_s,
         received: RateTotals::default(),

@@ -52,16 +52,17 @@ pub struct Watched<W> {
 }
 
 /// Watches `topic` of the launch `window` names, ticking every second, with the watcher
-/// `make` builds from the start time; the exit code after saying why when it cannot.
+/// `make` builds from the launch and the start time; the exit code after saying why when it
+/// cannot.
 pub fn watch_topic<W: Watcher>(
     window: &WindowArgs,
     topic: &str,
-    make: impl FnOnce(u64) -> W,
+    make: impl FnOnce(&Namespace, u64) -> W,
 ) -> Result<Watched<W>, ExitCode> {
     let (namespace, known) = window.run.topic(topic)?;
     let name = known.spec.name.to_string();
     let started_ns = hopnav_ipc::stamp::monotonic_now_ns();
-    let mut watcher = make(started_ns);
+    let mut watcher = make(&namespace, started_ns);
     eprintln!("subscribed to {name} in launch {}", namespace.run_id());
     let (end, rejected) = live::watch(&namespace, &known, Duration::from_secs(1), &mut watcher)
         .map_err(|error| watch_failed(&namespace, topic, error))?;

@@ -38,6 +38,11 @@ impl FoxgloveTopic {
         Self::Path,
     ];
 
+    /// Its place in [`Self::ALL`] (the order of declaration).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
     /// The channel's topic in the file (under `/foxglove/`, apart from hopnav's own).
     pub fn topic(self) -> &'static str {
         match self {
@@ -75,6 +80,13 @@ impl FoxgloveTopic {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_channel_stands_at_its_index() {
+        for (index, topic) in FoxgloveTopic::ALL.into_iter().enumerate() {
+            assert_eq!(topic.index(), index);
+        }
+    }
 
     #[test]
     fn every_channel_has_a_protobuf_schema_and_a_topic_of_its_own() {

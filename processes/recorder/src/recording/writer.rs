@@ -236,10 +236,7 @@ impl<W: Write + Seek> McapRecording<W> {
         stamp: SampleStamp,
         message: &impl foxglove::Encode,
     ) {
-        let index = FoxgloveTopic::ALL
-            .iter()
-            .position(|&known| known == topic)
-            .unwrap_or(usize::MAX);
+        let index = topic.index();
         let (Some(&(mcap_id, _)), Some(_)) = (self.foxglove.get(index), &self.writer) else {
             return;
         };

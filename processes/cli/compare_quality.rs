@@ -85,6 +85,18 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
             spread(&mut missed, " %"),
             spread(&mut uncertain, " %"),
         ));
+        let contacts: Vec<_> = evaluations
+            .iter()
+            .flat_map(|(_, evaluation)| &evaluation.contacts)
+            .collect();
+        if !contacts.is_empty() {
+            lines.push(format!(
+                "{} {}: {}",
+                set.label,
+                mode.name(),
+                hopnav_eval::mission::contacts_line(contacts.iter().copied())
+            ));
+        }
         if mode == MissionMode::RoverOnly {
             lines.extend(headroom_line(&set.label, &mut path_over_best));
         } else {

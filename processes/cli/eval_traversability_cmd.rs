@@ -50,6 +50,8 @@ struct MissionRow {
     run_dir: String,
     goal_reached: bool,
     collisions: u32,
+    /// Each rock contact: the rover's motion, the rock met and the map's word on it then.
+    contacts: Vec<hopnav_eval::contact_judge::JudgedContact>,
     blocked_area_ratio: Option<f64>,
     /// Truly lethal cells mapped traversable, % of the truly lethal.
     missed_lethal_percent: Option<f64>,
@@ -147,13 +149,16 @@ fn mission_row(k: f64, seed: u64, outcome: &hopnav_supervisor::LaunchOutcome) ->
     let in_view = evaluation
         .as_ref()
         .and_then(|evaluation| evaluation.blocked_area_in_view);
-    let map_frame = evaluation.and_then(|evaluation| evaluation.blocked_area_map_frame);
+    let map_frame = evaluation
+        .as_ref()
+        .and_then(|evaluation| evaluation.blocked_area_map_frame);
     MissionRow {
         golombek_k: k,
         seed,
         run_dir: outcome.run_dir.display().to_string(),
         goal_reached: mission.is_some_and(|mission| mission.goal_reached),
         collisions: mission.map_or(0, |mission| mission.collisions),
+        contacts: evaluation.map_or_else(Vec::new, |evaluation| evaluation.contacts),
         blocked_area_ratio: blocked.and_then(|b| b.blocked_area_ratio),
         missed_lethal_percent: blocked.and_then(|b| b.missed_lethal_percent()),
         uncertain_lethal_percent: blocked.and_then(|b| b.uncertain_lethal_percent()),
@@ -278,6 +283,13 @@ fn finish(args: &TraversabilityArgs, rows: &[MissionRow], interrupted: bool) -> 
         );
     }
     print_missed_causes(rows);
+    let contacts: Vec<_> = rows.iter().flat_map(|row| &row.contacts).collect();
+    if !contacts.is_empty() {
+        println!(
+            "{}",
+            hopnav_eval::mission::contacts_line(contacts.iter().copied())
+        );
+    }
     let path = args.out.join("eval_traversability.json");
     let written = serde_json::to_string_pretty(rows)
         .map_err(std::io::Error::other)

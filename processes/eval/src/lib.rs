@@ -8,6 +8,8 @@
 //! - [`map_accuracy`]: obstacle cells against rocks;
 //! - [`vo_accuracy`]: VO estimates against the truth of the same frames;
 //! - [`traversability`]: the ground the map blocks near the track against the rocks';
+//! - [`contact_judge`]: each rock contact of the rover, the rock it met and the map's word
+//!   on it then;
 //! - [`line_of_sight`]: the map cells the rover's camera had in sight (for that judge);
 //! - [`faulted_mission`]: a chaos launch's mission against the same launch without faults;
 //! - [`jumper_vo`] and [`rover_vo`]: the offline VO evaluations (`hopnav eval vo`,
@@ -20,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod blocked_area_judges;
+pub mod contact_judge;
 pub mod evaluator;
 pub mod faulted_mission;
 pub mod figure;

@@ -15,6 +15,9 @@ use hopnav_supervisor::mission_report::MissionReport;
 use serde::{Deserialize, Serialize};
 
 use crate::blocked_area_judges::judge_blocked_area;
+use crate::contact_judge::{
+    ContactGrid, JudgedContact, MapVerdict, count_by_verdict, judge_contacts,
+};
 use crate::full_knowledge::{FullKnowledgePath, KnownCell, full_knowledge_path, plan_on_known_map};
 use crate::line_of_sight::LineOfSight;
 use crate::map_accuracy::{self, MapAccuracy, ObstacleCell, RockFootprint};
@@ -66,6 +69,9 @@ pub struct MissionEvaluation {
     /// few centimetres by which the VO misplaces the whole map do not count as the mapper's
     /// error.
     pub blocked_area_map_frame: Option<BlockedArea>,
+    /// Each rock contact of the rover: what it was doing, the rock it met and what the map
+    /// said of that rock at that moment.
+    pub contacts: Vec<JudgedContact>,
 }
 
 impl MissionEvaluation {
@@ -148,6 +154,9 @@ impl MissionEvaluation {
                 blocked.rocks_by_outcome[3]
             )?;
         }
+        if !self.contacts.is_empty() {
+            writeln!(out, "{}", contacts_line(&self.contacts))?;
+        }
         for vo in &self.vo {
             writeln!(
                 out,
@@ -175,6 +184,44 @@ impl MissionEvaluation {
     }
 }
 
+/// One line on `contacts`: how many, what the rover was doing, and what the map said of the
+/// rocks it met.
+pub fn contacts_line<'a>(contacts: impl IntoIterator<Item = &'a JudgedContact>) -> String {
+    let contacts: Vec<&JudgedContact> = contacts.into_iter().collect();
+    let of_motion = |motion: &str| {
+        contacts
+            .iter()
+            .filter(|contact| contact.motion == motion)
+            .count()
+    };
+    let said: Vec<String> = MapVerdict::ALL
+        .iter()
+        .zip(count_by_verdict(contacts.iter().copied()))
+        .filter(|(_, count)| *count > 0)
+        .map(|(verdict, count)| format!("{} {count}", verdict.name()))
+        .collect();
+    let mut heights_m: Vec<f64> = contacts
+        .iter()
+        .filter_map(|contact| contact.rock_height_m)
+        .collect();
+    heights_m.sort_by(f64::total_cmp);
+    let heights = match (heights_m.first(), heights_m.get(heights_m.len() / 2)) {
+        (Some(lowest_m), Some(median_m)) => {
+            format!("; rocks met: median {median_m:.2} m, lowest {lowest_m:.2} m")
+        }
+        _ => String::new(),
+    };
+    format!(
+        "rock contacts: {} (driving {}, reversing {}, turning {}, unknown {}); the map held the rock met {}{heights}",
+        contacts.len(),
+        of_motion("driving"),
+        of_motion("reversing"),
+        of_motion("turning"),
+        of_motion("unknown"),
+        said.join(", ")
+    )
+}
+
 /// The truth a mission is scored against, read from the run's config.
 #[derive(Debug, Clone)]
 pub struct MissionTruth {
@@ -194,6 +241,8 @@ pub struct MissionTruth {
     pub climbable_height_m: f64,
     /// The rover's inscribed radius, metres.
     pub inscribed_m: f64,
+    /// Half the rover's footprint along and across its heading, metres.
+    pub rover_half_extents_m: [f64; 2],
     /// The mapper's grid and inflation (`None` when its config is invalid).
     pub mapper: Option<MapperConfig>,
     /// The rover's camera (`None` when the camera config is invalid).
@@ -278,6 +327,10 @@ impl MissionTruth {
                 .traversable_height_m,
             climbable_height_m: body.max_climbable_height_m,
             inscribed_m: body.inscribed_radius_m(),
+            rover_half_extents_m: [
+                0.5 * body.footprint_length_m(),
+                0.5 * body.footprint_width_m(),
+            ],
             mapper,
             rover_camera: rig.map(|camera| RoverCamera {
                 body_xy_m: [
@@ -339,7 +392,28 @@ pub fn evaluate(truth: &MissionTruth, record: &MissionRecord) -> MissionEvaluati
         blocked_area_in_view: judged.in_view,
         blocked_area_map_frame: judged.in_sight_map_frame,
         blocked_area_near_track: judged.near_track,
+        contacts: judge_mission_contacts(truth, record),
     }
+}
+
+/// The record's contacts judged against the true rocks (none when the world cannot be
+/// regenerated). The contacts' cells are on the published map's grid; without a map they
+/// hold none, and every rock met is unseen.
+fn judge_mission_contacts(truth: &MissionTruth, record: &MissionRecord) -> Vec<JudgedContact> {
+    let Some(rocks) = truth.rock_outlines.as_deref() else {
+        return Vec::new();
+    };
+    let grid = record.map.as_ref().map_or(
+        ContactGrid {
+            origin_m: (0.0, 0.0),
+            cell_size_m: 1.0,
+        },
+        |map| ContactGrid {
+            origin_m: map.origin_m,
+            cell_size_m: map.cell_size_m,
+        },
+    );
+    judge_contacts(&record.contacts, rocks, grid, truth.rover_half_extents_m)
 }
 
 /// The planner's path from A to B had it known from the start every rock the rover cannot

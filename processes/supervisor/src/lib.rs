@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 mod child;
+pub mod contact_log;
 mod error;
 pub mod fault_injector;
 mod frame_loop;

@@ -12,6 +12,7 @@ use hopnav_ipc::topics;
 use hopnav_ipc::transport::{SliceSubscriber, Subscriber};
 use iceoryx2::node::Node;
 
+use crate::contact_log::{CELLS_AROUND_M, ContactLog};
 use crate::hop_counter::HopCounter;
 use crate::mission_record::{MissionRecord, RecordedCell, RecordedMap, RecordedVo};
 use crate::mission_report::MissionReport;
@@ -56,6 +57,7 @@ pub struct MissionObserver {
     rover_path_m: f64,
     last_rover_m: Option<[f64; 2]>,
     collisions: u32,
+    contacts: ContactLog,
     hops: HopCounter,
     last_sim_time_s: f64,
     reached_at_s: Option<f64>,
@@ -83,6 +85,7 @@ impl MissionObserver {
             rover_path_m: 0.0,
             last_rover_m: None,
             collisions: 0,
+            contacts: ContactLog::default(),
             hops: HopCounter::default(),
             last_sim_time_s: 0.0,
             reached_at_s: None,
@@ -150,6 +153,13 @@ impl MissionObserver {
         push_if_moved(&mut self.jumper_track_m, (jx_m, jy_m));
         self.hops.observe(states.jumper.in_contact != 0, jz_m);
         self.collisions = states.rover.collisions;
+        let (geometry, cells) = (self.geometry, &self.cells);
+        self.contacts
+            .observe(self.last_sim_time_s, &states.rover, |rover_m| {
+                geometry.map_or_else(Vec::new, |geometry| {
+                    cells_around(&geometry, cells, rover_m, CELLS_AROUND_M)
+                })
+            });
     }
 
     fn on_path(&mut self, header: &PathHeader) {
@@ -238,6 +248,7 @@ impl MissionObserver {
             rover_track_m: self.rover_track_m.clone(),
             jumper_track_m: self.jumper_track_m.clone(),
             last_rover_m: self.last_rover_m,
+            contacts: self.contacts.contacts().to_vec(),
             vo: vec![
                 RecordedVo {
                     robot: "jumper",
@@ -250,6 +261,42 @@ impl MissionObserver {
             ],
         }
     }
+}
+
+/// The published cells whose centres lie within `radius_m` of `centre_m`, sorted by (y, x).
+fn cells_around(
+    geometry: &Geometry,
+    cells: &HashMap<(u32, u32), CellView>,
+    centre_m: [f64; 2],
+    radius_m: f64,
+) -> Vec<RecordedCell> {
+    let size_m = geometry.cell_size_m;
+    let reach = (radius_m / size_m).ceil() as i64 + 1;
+    let column = ((centre_m[0] - geometry.origin_m.0) / size_m).floor() as i64;
+    let row = ((centre_m[1] - geometry.origin_m.1) / size_m).floor() as i64;
+    let mut around = Vec::new();
+    for y in (row - reach).max(0)..=(row + reach) {
+        for x in (column - reach).max(0)..=(column + reach) {
+            let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y)) else {
+                continue;
+            };
+            let Some(view) = cells.get(&(x, y)) else {
+                continue;
+            };
+            let dx_m = geometry.origin_m.0 + (f64::from(x) + 0.5) * size_m - centre_m[0];
+            let dy_m = geometry.origin_m.1 + (f64::from(y) + 0.5) * size_m - centre_m[1];
+            if dx_m.hypot(dy_m) <= radius_m {
+                around.push(RecordedCell {
+                    x,
+                    y,
+                    class: view.class,
+                    observed_by: view.observed_by,
+                    extra_cost: view.extra_cost,
+                });
+            }
+        }
+    }
+    around
 }
 
 fn push_if_moved(track: &mut Vec<(f64, f64)>, point: (f64, f64)) {

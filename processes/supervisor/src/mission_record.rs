@@ -11,6 +11,7 @@ use hopnav_config::{HopnavConfig, MissionMode};
 use hopnav_ipc::messages::CellClass;
 use serde_json::{Map, Value};
 
+use crate::contact_log::RecordedContact;
 use crate::mission_report::MissionReport;
 use crate::vo_pairs::VoTrack;
 
@@ -62,6 +63,8 @@ pub struct MissionRecord {
     pub jumper_track_m: Vec<(f64, f64)>,
     /// The rover's last true position, world metres.
     pub last_rover_m: Option<[f64; 2]>,
+    /// The rover's rock contacts, oldest first.
+    pub contacts: Vec<RecordedContact>,
     /// Both robots' VO pairs.
     pub vo: Vec<RecordedVo>,
 }

@@ -89,6 +89,7 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
             .iter()
             .flat_map(|(_, evaluation)| &evaluation.contacts)
             .collect();
+        lines.extend(motion_line(&set.label, mode.name(), &missions));
         if !contacts.is_empty() {
             lines.push(format!(
                 "{} {}: {}",
@@ -108,6 +109,39 @@ pub fn quality_lines(set: &RunSet) -> Vec<String> {
         }
     }
     lines
+}
+
+/// How the rover's time split over the missions of one mode: each motion's share of each
+/// mission's time, median and worst (largest) over the missions.
+fn motion_line(
+    label: &str,
+    mode: &str,
+    missions: &[&hopnav_supervisor::mission_report::MissionReport],
+) -> Option<String> {
+    let times: Vec<_> = missions
+        .iter()
+        .filter_map(|mission| mission.rover_motion_times)
+        .filter(|times| times.total_s() > 0.0)
+        .collect();
+    if times.is_empty() {
+        return None;
+    }
+    let share = |part: fn(&hopnav_supervisor::rover_motion::MotionTimes) -> f64| {
+        let mut shares: Vec<f64> = times
+            .iter()
+            .map(|times| 100.0 * part(times) / times.total_s())
+            .collect();
+        median_and_worst(&mut shares).map_or("-".to_owned(), |(median, worst)| {
+            format!("{median:.0} % (up to {worst:.0} %)")
+        })
+    };
+    Some(format!(
+        "{label} {mode}: rover's time, median share of a mission: driving {}, reversing {}, turning on the spot {}, standing still {}",
+        share(|times| times.driving_s),
+        share(|times| times.reversing_s),
+        share(|times| times.turning_s),
+        share(|times| times.still_s),
+    ))
 }
 
 /// How far the jumper's VO strayed over the cooperative missions: its unaligned RMSE per

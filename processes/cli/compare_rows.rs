@@ -134,6 +134,7 @@ pub(crate) mod tests {
                 jump_requests: 0,
                 jumper_hops: 0,
                 collisions: 0,
+                rover_motion_times: None,
                 mapped_cells: 0,
                 obstacle_cells: 0,
                 inflated_cells: 0,

@@ -184,8 +184,8 @@ pub fn count_by_verdict<'a>(contacts: impl IntoIterator<Item = &'a JudgedContact
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hopnav_supervisor::contact_log::ContactMotion;
     use hopnav_supervisor::mission_record::RecordedCell;
+    use hopnav_supervisor::rover_motion::RoverMotion;
 
     const GRID: ContactGrid = ContactGrid {
         origin_m: (0.0, 0.0),
@@ -223,7 +223,7 @@ mod tests {
             time_s: 4.0,
             rover_m: [2.0, 2.0],
             yaw_rad: 0.0,
-            motion: ContactMotion::Driving,
+            motion: RoverMotion::Driving,
             cells_around: cells,
         }
     }

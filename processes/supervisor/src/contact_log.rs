@@ -3,41 +3,12 @@
 //! and judges the map's verdict on it; the runtime only records.
 
 use crate::mission_record::RecordedCell;
+use crate::rover_motion::{RoverMotion, motion_of};
 use hopnav_ipc::messages::BodyState;
 
-/// A forward or backward ground speed above this is driving, metres per second.
-const MOVING_MPS: f64 = 0.02;
-/// Below `MOVING_MPS`, a yaw rate above this is a turn on the spot, radians per second.
-const TURNING_RADPS: f64 = 0.02;
 /// The map's cells within this of the rover's centre are kept with a contact, metres: the
 /// rover's corners reach 0.61 m, and the rock it touched lies just beyond.
 pub const CELLS_AROUND_M: f64 = 1.2;
-
-/// What the rover was doing when it met the rock (its last motion before the refused move).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ContactMotion {
-    /// Driving front first.
-    Driving,
-    /// Driving rear first (backing away from something).
-    Reversing,
-    /// Turning on the spot.
-    Turning,
-    /// It had not moved yet.
-    #[default]
-    Unknown,
-}
-
-impl ContactMotion {
-    /// Its name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Driving => "driving",
-            Self::Reversing => "reversing",
-            Self::Turning => "turning",
-            Self::Unknown => "unknown",
-        }
-    }
-}
 
 /// One contact episode: the physics counted a collision in the frame at `time_s`.
 #[derive(Debug, Clone, PartialEq)]
@@ -49,7 +20,7 @@ pub struct RecordedContact {
     /// The rover's true heading, radians.
     pub yaw_rad: f64,
     /// Its motion just before.
-    pub motion: ContactMotion,
+    pub motion: RoverMotion,
     /// The map's cells within [`CELLS_AROUND_M`] as the supervisor last received them.
     pub cells_around: Vec<RecordedCell>,
 }
@@ -58,7 +29,7 @@ pub struct RecordedContact {
 #[derive(Debug, Default)]
 pub struct ContactLog {
     collisions_seen: u32,
-    last_motion: ContactMotion,
+    last_motion: RoverMotion,
     contacts: Vec<RecordedContact>,
 }
 
@@ -71,9 +42,8 @@ impl ContactLog {
         rover: &BodyState,
         cells_around: impl FnOnce([f64; 2]) -> Vec<RecordedCell>,
     ) {
-        let world_from_body = rover.world_from_body.to_isometry();
-        let (_, _, yaw_rad) = world_from_body.rotation.euler_angles();
-        if let Some(motion) = motion_of(rover, yaw_rad) {
+        let (motion, yaw_rad) = motion_of(rover);
+        if motion != RoverMotion::Still {
             self.last_motion = motion;
         }
         if rover.collisions > self.collisions_seen {
@@ -94,22 +64,6 @@ impl ContactLog {
     /// The contacts so far, oldest first.
     pub fn contacts(&self) -> &[RecordedContact] {
         &self.contacts
-    }
-}
-
-/// The rover's motion in this frame, `None` when it stood still.
-fn motion_of(rover: &BodyState, yaw_rad: f64) -> Option<ContactMotion> {
-    let [vx, vy, _] = rover.linear_velocity_mps;
-    let forward_mps = vx * yaw_rad.cos() + vy * yaw_rad.sin();
-    let yaw_rate_radps = rover.angular_velocity_radps[2];
-    if forward_mps > MOVING_MPS {
-        Some(ContactMotion::Driving)
-    } else if forward_mps < -MOVING_MPS {
-        Some(ContactMotion::Reversing)
-    } else if yaw_rate_radps.abs() > TURNING_RADPS {
-        Some(ContactMotion::Turning)
-    } else {
-        None
     }
 }
 
@@ -152,7 +106,7 @@ mod tests {
         log.observe(0.3, &rover(0.0, 0.0, 1), one_cell);
         let contacts = log.contacts();
         assert_eq!(contacts.len(), 1, "one record per rise of the count");
-        assert_eq!(contacts[0].motion, ContactMotion::Turning);
+        assert_eq!(contacts[0].motion, RoverMotion::Turning);
         assert!((contacts[0].time_s - 0.2).abs() < 1e-12);
         assert!((contacts[0].rover_m[0] - 2.0).abs() < 1e-12);
         assert!((contacts[0].yaw_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
@@ -167,7 +121,7 @@ mod tests {
         let motions: Vec<_> = log.contacts().iter().map(|c| c.motion).collect();
         assert_eq!(
             motions,
-            [ContactMotion::Driving, ContactMotion::Reversing],
+            [RoverMotion::Driving, RoverMotion::Reversing],
             "moving wins over the yaw rate"
         );
     }

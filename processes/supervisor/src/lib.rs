@@ -22,6 +22,7 @@ mod progress;
 pub mod relay;
 pub mod report;
 pub mod restart;
+pub mod rover_motion;
 pub mod scheduler;
 pub mod signals;
 mod slot;

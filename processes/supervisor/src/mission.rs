@@ -16,6 +16,7 @@ use crate::contact_log::{CELLS_AROUND_M, ContactLog};
 use crate::hop_counter::HopCounter;
 use crate::mission_record::{MissionRecord, RecordedCell, RecordedMap, RecordedVo};
 use crate::mission_report::MissionReport;
+use crate::rover_motion::{MotionTimes, motion_of};
 use crate::vo_pairs::VoTrack;
 
 /// The planner holding "unreachable" this long ends the mission as failed, seconds.
@@ -58,6 +59,7 @@ pub struct MissionObserver {
     last_rover_m: Option<[f64; 2]>,
     collisions: u32,
     contacts: ContactLog,
+    rover_times: MotionTimes,
     hops: HopCounter,
     last_sim_time_s: f64,
     reached_at_s: Option<f64>,
@@ -86,6 +88,7 @@ impl MissionObserver {
             last_rover_m: None,
             collisions: 0,
             contacts: ContactLog::default(),
+            rover_times: MotionTimes::default(),
             hops: HopCounter::default(),
             last_sim_time_s: 0.0,
             reached_at_s: None,
@@ -137,7 +140,13 @@ impl MissionObserver {
     }
 
     fn on_truth(&mut self, states: &BodyStates) {
-        self.last_sim_time_s = states.stamp.sim_time_ns as f64 * 1e-9;
+        let time_s = states.stamp.sim_time_ns as f64 * 1e-9;
+        // The frame's motion over the time since the last truth, until the rover is at B.
+        if self.reached_at_s.is_none() && time_s > self.last_sim_time_s {
+            let (motion, _) = motion_of(&states.rover);
+            self.rover_times.add(motion, time_s - self.last_sim_time_s);
+        }
+        self.last_sim_time_s = time_s;
         let time_ns = states.stamp.sim_time_ns;
         self.jumper_vo
             .add_truth(time_ns, states.jumper.world_from_body.to_isometry());
@@ -212,6 +221,7 @@ impl MissionObserver {
             jump_requests: header.jump_requests,
             jumper_hops: self.hops.hops(),
             collisions: self.collisions,
+            rover_motion_times: Some(self.rover_times),
             mapped_cells: self.cells.len(),
             obstacle_cells: count(CellClass::Obstacle),
             inflated_cells: count(CellClass::Inflated)

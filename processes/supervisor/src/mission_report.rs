@@ -4,6 +4,8 @@ use std::io::Write;
 
 use serde::{Deserialize, Serialize};
 
+use crate::rover_motion::MotionTimes;
+
 /// How the mission went (ground truth for distances; the planner's own counters).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MissionReport {
@@ -31,6 +33,10 @@ pub struct MissionReport {
     pub jumper_hops: u32,
     /// Rover collisions with rocks it cannot climb.
     pub collisions: u32,
+    /// How the rover's mission time split between driving, reversing, turning on the spot
+    /// and standing still (from the truth's velocities; `None` in reports written before).
+    #[serde(default)]
+    pub rover_motion_times: Option<MotionTimes>,
     /// Cells the mapper published.
     pub mapped_cells: usize,
     /// Of them, obstacles.
@@ -68,6 +74,13 @@ impl MissionReport {
             self.obstacle_cells,
             self.inflated_cells
         )?;
+        if let Some(times) = &self.rover_motion_times {
+            writeln!(
+                out,
+                "rover's time: driving {:.1} s, reversing {:.1} s, turning on the spot {:.1} s, standing still {:.1} s",
+                times.driving_s, times.reversing_s, times.turning_s, times.still_s
+            )?;
+        }
         Ok(())
     }
 }

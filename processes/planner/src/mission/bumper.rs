@@ -59,8 +59,11 @@ pub enum BumperEvent {
     Clear,
     /// Stuck: something is in the way at about `obstacle_m`; backing off has begun.
     Stuck {
-        /// Where the obstacle probably is (ahead along the heading), world metres.
+        /// Where the obstacle probably is (ahead along the heading, or behind a back-off that
+        /// stalled reversing), world metres.
         obstacle_m: [f64; 2],
+        /// The direction from the rover toward it, about world z, radians.
+        bearing_rad: f64,
     },
     /// Backing off, rear first.
     BackingOff,
@@ -77,6 +80,7 @@ struct BumperConfig {
     back_off_m: f64,
     back_off_timeout_s: f64,
     obstacle_reach_m: f64,
+    mark_back_off_stalls: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,6 +90,8 @@ struct BackOff {
     waypoint_m: [f64; 2],
     /// Nose first (the escape after failed back-offs), not rear first.
     forward: bool,
+    /// Pose and time of the back-off's last progress.
+    progress: (RoverPose, f64),
 }
 
 /// Positions of the recent track kept for backing off along it.
@@ -123,6 +129,7 @@ impl Bumper {
                 back_off_m: config.back_off_m,
                 back_off_timeout_s: config.back_off_timeout_s,
                 obstacle_reach_m: config.bump_reach_m,
+                mark_back_off_stalls: config.mark_back_off_stalls,
             },
             anchor: None,
             distance_anchor: None,
@@ -141,10 +148,20 @@ impl Bumper {
     /// One frame at `time_s`. `driving`: the rover was told to drive forward (not holding).
     pub fn observe(&mut self, pose: RoverPose, time_s: f64, driving: bool) -> BumperEvent {
         self.extend_trail(pose.xy_m);
-        if let Some(back_off) = self.backing_off {
+        if let Some(mut back_off) = self.backing_off {
             let escaped = distance_m(back_off.from.xy_m, pose.xy_m) >= self.config.back_off_m;
             let timed_out = time_s - back_off.since_s >= self.config.back_off_timeout_s;
             if !escaped && !timed_out {
+                if !self.config.mark_back_off_stalls {
+                    return BumperEvent::BackingOff;
+                }
+                let (at, since_s) = back_off.progress;
+                if self.progressed(at, pose) {
+                    back_off.progress = (pose, time_s);
+                    self.backing_off = Some(back_off);
+                } else if time_s - since_s >= self.config.stall_time_s {
+                    return self.back_off_stalled(back_off, pose, time_s);
+                }
                 return BumperEvent::BackingOff;
             }
             self.failed_back_offs = if escaped {
@@ -168,10 +185,7 @@ impl Bumper {
             self.anchor = Some((pose, time_s));
             return BumperEvent::Clear;
         };
-        let turned_rad = wrap_angle(pose.yaw_rad - anchor.yaw_rad).abs();
-        if distance_m(anchor.xy_m, pose.xy_m) > self.config.stall_distance_m
-            || turned_rad > self.config.stall_yaw_rad
-        {
+        if self.progressed(anchor, pose) {
             self.anchor = Some((pose, time_s));
             return BumperEvent::Clear;
         }
@@ -180,6 +194,27 @@ impl Bumper {
         }
         self.stalls += 1;
         self.start_back_off(pose, time_s)
+    }
+
+    /// The rover moved or turned enough since `anchor` to count as progress.
+    fn progressed(&self, anchor: RoverPose, pose: RoverPose) -> bool {
+        let turned_rad = wrap_angle(pose.yaw_rad - anchor.yaw_rad).abs();
+        distance_m(anchor.xy_m, pose.xy_m) > self.config.stall_distance_m
+            || turned_rad > self.config.stall_yaw_rad
+    }
+
+    /// A back-off stalled: whatever holds the rover lies the way it was driving (behind, rear
+    /// first). It failed; the next way out begins now.
+    fn back_off_stalled(&mut self, back_off: BackOff, pose: RoverPose, time_s: f64) -> BumperEvent {
+        self.failed_back_offs += 1;
+        self.stalls += 1;
+        self.backing_off = None;
+        let bearing_rad = if back_off.forward {
+            pose.yaw_rad
+        } else {
+            wrap_angle(pose.yaw_rad + std::f64::consts::PI)
+        };
+        self.start_back_off_from(pose, time_s, bearing_rad)
     }
 
     /// True when the rover, told to drive, has stayed within `no_progress_distance_m` of one
@@ -213,6 +248,16 @@ impl Bumper {
     }
 
     fn start_back_off(&mut self, pose: RoverPose, time_s: f64) -> BumperEvent {
+        self.start_back_off_from(pose, time_s, pose.yaw_rad)
+    }
+
+    /// Starts the next way out from a rover held by something toward `bearing_rad`.
+    fn start_back_off_from(
+        &mut self,
+        pose: RoverPose,
+        time_s: f64,
+        bearing_rad: f64,
+    ) -> BumperEvent {
         self.anchor = None;
         let (waypoint_m, forward) = self.back_off_target(pose);
         self.backing_off = Some(BackOff {
@@ -220,9 +265,15 @@ impl Bumper {
             since_s: time_s,
             waypoint_m,
             forward,
+            progress: (pose, time_s),
         });
+        let toward = RoverPose {
+            xy_m: pose.xy_m,
+            yaw_rad: bearing_rad,
+        };
         BumperEvent::Stuck {
-            obstacle_m: pose.ahead_m(self.config.obstacle_reach_m),
+            obstacle_m: toward.ahead_m(self.config.obstacle_reach_m),
+            bearing_rad,
         }
     }
 
@@ -323,7 +374,7 @@ mod tests {
         let config = NavigatorConfig::default();
         let mut bumper = Bumper::new(&config);
         let event = run(&mut bumper, 100, |_| pose(2.0, 0.0));
-        let BumperEvent::Stuck { obstacle_m } = event else {
+        let BumperEvent::Stuck { obstacle_m, .. } = event else {
             panic!("not stuck: {event:?}");
         };
         assert!(obstacle_m[0] > 2.4 && obstacle_m[0] < 3.0, "{obstacle_m:?}");
@@ -360,6 +411,72 @@ mod tests {
             bumper.observe(pose(0.0, 0.0), later_s, true),
             BumperEvent::Clear
         );
+    }
+
+    #[test]
+    fn a_back_off_that_stalls_reversing_names_the_rock_behind_and_tries_the_next_way_out() {
+        let config = NavigatorConfig {
+            mark_back_off_stalls: true,
+            ..NavigatorConfig::default()
+        };
+        let mut bumper = Bumper::new(&config);
+        let held = pose(0.0, 0.0);
+        let event = run(&mut bumper, 100, |_| held);
+        let BumperEvent::Stuck { bearing_rad, .. } = event else {
+            panic!("not stuck: {event:?}");
+        };
+        assert_eq!(bearing_rad, 0.0, "the first stall is ahead");
+        assert!(!bumper.backing_off_forward());
+        // Reversing gets nowhere: after stall_time_s, well before the timeout, the rock behind.
+        let stuck_s = config.stall_time_s;
+        let mut time_s = stuck_s;
+        let mut event = BumperEvent::BackingOff;
+        while event == BumperEvent::BackingOff {
+            time_s += 0.1;
+            event = bumper.observe(held, time_s, true);
+        }
+        assert!(
+            time_s - stuck_s < config.back_off_timeout_s - 1.0,
+            "{time_s}"
+        );
+        let BumperEvent::Stuck {
+            obstacle_m,
+            bearing_rad,
+        } = event
+        else {
+            panic!("not stuck behind: {event:?}");
+        };
+        assert!((bearing_rad.abs() - std::f64::consts::PI).abs() < 1e-9);
+        assert!(
+            obstacle_m[0] < -0.5 && obstacle_m[1].abs() < 1e-9,
+            "{obstacle_m:?}"
+        );
+        assert_eq!(bumper.stalls(), 2);
+        assert!(
+            bumper.back_off_waypoint().is_some(),
+            "the next way out has begun"
+        );
+    }
+
+    #[test]
+    fn a_back_off_that_moves_is_not_a_stall() {
+        let config = NavigatorConfig {
+            mark_back_off_stalls: true,
+            ..NavigatorConfig::default()
+        };
+        let mut bumper = Bumper::new(&config);
+        let event = run(&mut bumper, 100, |_| pose(0.0, 0.0));
+        assert!(matches!(event, BumperEvent::Stuck { .. }));
+        // Backing up at 10 cm/s (the back-off drives at 0.25 m/s): 0.2 m per stall time.
+        let start_s = config.stall_time_s;
+        for frame in 1..50 {
+            let event = bumper.observe(
+                pose(-0.01 * frame as f64, 0.0),
+                start_s + 0.1 * frame as f64,
+                true,
+            );
+            assert_eq!(event, BumperEvent::BackingOff, "frame {frame}");
+        }
     }
 
     #[test]

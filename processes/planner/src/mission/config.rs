@@ -47,6 +47,11 @@ pub struct NavigatorConfig {
     /// would (a path one cell over brushed the same rock again), metres. 0.75 m marks the
     /// eight neighbours of a 0.5 m cell, a three-cell disc of 0.25 m cells.
     pub bump_ring_m: f64,
+    /// A back-off that stalls (neither moving nor turning for `stall_time_s`) has met
+    /// something on the side it drives toward: end it then, not at `back_off_timeout_s`, mark
+    /// the cell there (behind a reversing rover), and try the next way out. Off, a back-off
+    /// pushes against the rock until its timeout and the rock stays unmarked.
+    pub mark_back_off_stalls: bool,
     /// Driving on, the rover stops and backs off when its tilt (from the VO attitude, whose
     /// roll and pitch come from the IMU) exceeds this, and the cell ahead is marked: a crater
     /// wall is no obstacle to the mapper (nothing stands above the local ground) but wedges
@@ -81,6 +86,7 @@ impl Default for NavigatorConfig {
             back_off_timeout_s: 5.0,
             bump_reach_m: 0.8,
             bump_ring_m: 0.75,
+            mark_back_off_stalls: false,
             max_safe_tilt_rad: 22f64.to_radians(),
             scout: ScoutConfig::default(),
             footprint_check: true,

@@ -334,8 +334,16 @@ impl Navigator {
         } else {
             self.bumper.observe(rover, time_s, self.driving)
         };
-        if let BumperEvent::Stuck { obstacle_m } = event {
-            self.mark_bumped_ahead(rover, obstacle_m, rover_cell);
+        if let BumperEvent::Stuck {
+            obstacle_m,
+            bearing_rad,
+        } = event
+        {
+            let facing = RoverPose {
+                xy_m: rover.xy_m,
+                yaw_rad: bearing_rad,
+            };
+            self.mark_bumped_ahead(facing, obstacle_m, rover_cell);
         }
     }
 

@@ -11,9 +11,10 @@ use crate::grid::{Cell, CellChange, CellState};
 const MAX_BUMPED_CELLS: usize = 4096;
 
 impl Navigator {
-    /// The rover is stuck against something at `obstacle_m` ahead: marks that cell, or, when
-    /// it is already marked (the rover stalled again facing the same way: the rock or slope is
-    /// wider than a cell), the next unmarked cell ahead-left or ahead-right of it.
+    /// The rover, facing `rover.yaw_rad` (its heading, or the way it reversed), is stuck
+    /// against something at `obstacle_m` that way: marks that cell, or, when it is already
+    /// marked (the rover stalled again facing the same way: the rock or slope is wider than a
+    /// cell), the next unmarked cell to the left or right of it.
     pub(super) fn mark_bumped_ahead(
         &mut self,
         rover: RoverPose,

@@ -11,7 +11,7 @@ use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::WireBytes;
 
 use crate::dataset::Dataset;
-use crate::recording::{BUILD_COMMIT, McapRecording};
+use crate::recording::{BUILD_COMMIT, McapRecording, RecordingContent};
 use crate::taps::{MessageTap, SliceTap, Taps};
 use crate::writers::io_error;
 use crate::{RecorderError, RecordingError};
@@ -82,10 +82,10 @@ impl Recorder {
         context: &ProcessContext,
         dataset_dir: Option<PathBuf>,
         mcap_path: Option<PathBuf>,
-        foxglove: bool,
+        content: RecordingContent,
     ) -> Result<Self, RecorderError> {
         let identity = &context.identity;
-        let (taps, channels) = Taps::open(context)?;
+        let (taps, channels) = Taps::open(context, content.images)?;
         let dataset = dataset_dir.map(Dataset::create).transpose()?;
         let recording = match mcap_path {
             Some(path) => {
@@ -108,9 +108,7 @@ impl Recorder {
                     ),
                 ];
                 let path = recording_path(&path, identity.incarnation);
-                Some(McapRecording::create(
-                    &path, &channels, foxglove, &metadata,
-                )?)
+                Some(McapRecording::create(&path, &channels, content, &metadata)?)
             }
             None => None,
         };
@@ -142,7 +140,11 @@ impl Process for Recorder {
         if dataset_dir.is_none() && mcap_path.is_none() {
             return Err(RecorderError::Own(RecordingError::NoOutput));
         }
-        Self::open(context, dataset_dir, mcap_path, config.recorder.foxglove)
+        let content = RecordingContent {
+            foxglove: config.recorder.foxglove,
+            images: config.recorder.images,
+        };
+        Self::open(context, dataset_dir, mcap_path, content)
     }
 
     fn step(&mut self, _context: &ProcessContext, _tick: &FrameTick) -> Result<(), RecorderError> {
@@ -180,7 +182,7 @@ impl Process for Recorder {
     }
 
     fn rejected_samples(&self) -> u64 {
-        self.taps.rejected_per_channel().iter().sum()
+        self.taps.rejected_total()
     }
 
     fn stop(&mut self, context: &ProcessContext) {

@@ -17,11 +17,11 @@ use crate::RecorderError;
 use crate::recording::{ChannelSpec, McapRecording};
 use crate::views;
 
-/// A subscriber of one tapped topic, the index of its recording channel, and what it adds
-/// to the recording's Foxglove channels.
+/// A subscriber of one tapped topic, the index of its recording channel (none when the
+/// recording leaves the topic out), and what it adds to the recording's Foxglove channels.
 pub struct Tap<P: TapPort> {
     subscriber: P,
-    channel: usize,
+    channel: Option<usize>,
     view: Option<P::View>,
 }
 
@@ -91,16 +91,30 @@ impl<P: TapPort> Tap<P> {
         spec: &TopicSpec,
         channels: &mut Vec<ChannelSpec>,
     ) -> Result<Self, RecorderError> {
+        Self::open_if(context, spec, channels, true)
+    }
+
+    /// Opens the subscriber of topic `spec` (the dataset may need it) and adds its recording
+    /// channel to `channels` only if `recorded`.
+    fn open_if(
+        context: &ProcessContext,
+        spec: &TopicSpec,
+        channels: &mut Vec<ChannelSpec>,
+        recorded: bool,
+    ) -> Result<Self, RecorderError> {
         let subscriber = P::open_port(context, spec)?;
-        let (schema_name, schema_text) = P::schema();
-        channels.push(ChannelSpec {
-            topic: spec.name.to_string(),
-            schema_name,
-            schema_text,
+        let channel = recorded.then(|| {
+            let (schema_name, schema_text) = P::schema();
+            channels.push(ChannelSpec {
+                topic: spec.name.to_string(),
+                schema_name,
+                schema_text,
+            });
+            channels.len() - 1
         });
         Ok(Self {
             subscriber,
-            channel: channels.len() - 1,
+            channel,
             view: None,
         })
     }
@@ -113,8 +127,8 @@ impl<P: TapPort> Tap<P> {
         }
     }
 
-    fn rejected(&self) -> u64 {
-        self.subscriber.rejected_total()
+    fn channel_and_rejected(&self) -> (Option<usize>, u64) {
+        (self.channel, self.subscriber.rejected_total())
     }
 }
 
@@ -126,8 +140,8 @@ impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
         mut also: impl FnMut(&M) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(message) = self.subscriber.receive()? {
-            if let Some(recording) = recording {
-                recording.record_message(self.channel, &message);
+            if let (Some(recording), Some(channel)) = (recording.as_mut(), self.channel) {
+                recording.record_message(channel, &message);
                 if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
                     view(recording, &message);
                 }
@@ -149,8 +163,8 @@ where
         mut also: impl FnMut(&ValidSlice<H>) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(sample) = self.subscriber.receive()? {
-            if let Some(recording) = recording {
-                recording.record_slice(self.channel, sample.header(), sample.elements());
+            if let (Some(recording), Some(channel)) = (recording.as_mut(), self.channel) {
+                recording.record_slice(channel, sample.header(), sample.elements());
                 if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
                     view(recording, sample.header(), sample.elements());
                 }
@@ -185,8 +199,11 @@ pub struct Taps {
 
 impl Taps {
     /// Opens a subscriber on every tapped topic; returns the taps and their channels, indexed
-    /// as the taps name them.
-    pub fn open(context: &ProcessContext) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
+    /// as the taps name them (without the cameras' unless `images`).
+    pub fn open(
+        context: &ProcessContext,
+        images: bool,
+    ) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
         let mut channels = Vec::new();
         let taps = Self {
             body_states: MessageTap::open(context, &topics::BODY_STATES, &mut channels)?
@@ -195,9 +212,14 @@ impl Taps {
             imu: MessageTap::open(context, &topics::IMU, &mut channels)?,
             physics_state: MessageTap::open(context, &topics::PHYSICS_STATE, &mut channels)?,
             hop_launches: MessageTap::open(context, &topics::HOP_LAUNCH, &mut channels)?,
-            jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?
-                .with_view(views::jumper_image),
-            rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?
+            jumper_images: SliceTap::open_if(
+                context,
+                &topics::JUMPER_IMAGE,
+                &mut channels,
+                images,
+            )?
+            .with_view(views::jumper_image),
+            rover_stereo: SliceTap::open_if(context, &topics::ROVER_STEREO, &mut channels, images)?
                 .with_view(views::rover_images),
             jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?
                 .with_view(views::estimate),
@@ -218,26 +240,43 @@ impl Taps {
         Ok((taps, channels))
     }
 
-    /// Samples rejected per channel (invalid or out of sequence), indexed like the channels.
+    /// Samples rejected per recorded channel (invalid or out of sequence), indexed like the
+    /// channels.
     pub fn rejected_per_channel(&self) -> Vec<u64> {
-        vec![
-            self.body_states.rejected(),
-            self.altimeter.rejected(),
-            self.imu.rejected(),
-            self.physics_state.rejected(),
-            self.hop_launches.rejected(),
-            self.jumper_images.rejected(),
-            self.rover_stereo.rejected(),
-            self.jumper_poses.rejected(),
-            self.rover_poses.rejected(),
-            self.jumper_clouds.rejected(),
-            self.rover_clouds.rejected(),
-            self.map_updates.rejected(),
-            self.map_snapshots.rejected(),
-            self.paths.rejected(),
-            self.drive_commands.rejected(),
-            self.jump_requests.rejected(),
-            self.control.rejected(),
+        self.rejected_per_tap()
+            .into_iter()
+            .filter_map(|(channel, rejected)| channel.map(|_| rejected))
+            .collect()
+    }
+
+    /// Samples rejected by every tap, recorded or not.
+    pub fn rejected_total(&self) -> u64 {
+        self.rejected_per_tap()
+            .into_iter()
+            .map(|(_, rejected)| rejected)
+            .sum()
+    }
+
+    /// Each tap's recording channel and rejected samples, in the order of the channels.
+    fn rejected_per_tap(&self) -> [(Option<usize>, u64); 17] {
+        [
+            self.body_states.channel_and_rejected(),
+            self.altimeter.channel_and_rejected(),
+            self.imu.channel_and_rejected(),
+            self.physics_state.channel_and_rejected(),
+            self.hop_launches.channel_and_rejected(),
+            self.jumper_images.channel_and_rejected(),
+            self.rover_stereo.channel_and_rejected(),
+            self.jumper_poses.channel_and_rejected(),
+            self.rover_poses.channel_and_rejected(),
+            self.jumper_clouds.channel_and_rejected(),
+            self.rover_clouds.channel_and_rejected(),
+            self.map_updates.channel_and_rejected(),
+            self.map_snapshots.channel_and_rejected(),
+            self.paths.channel_and_rejected(),
+            self.drive_commands.channel_and_rejected(),
+            self.jump_requests.channel_and_rejected(),
+            self.control.channel_and_rejected(),
         ]
     }
 }

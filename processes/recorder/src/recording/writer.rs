@@ -9,6 +9,7 @@ use hopnav_ipc::messages::SampleStamp;
 use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
+use super::content::RecordingContent;
 use super::foxglove_channels::FoxgloveTopic;
 use super::summary::{ChannelSummary, RecordingSummary};
 use crate::{RecorderError, RecordingError};
@@ -54,8 +55,8 @@ pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
     writer: Option<mcap::Writer<W>>,
     channels: Vec<ChannelCount>,
     /// The Foxglove channels' MCAP ids and message counts, indexed like
-    /// [`FoxgloveTopic::ALL`]; empty when the recording has none.
-    foxglove: Vec<(u16, u64)>,
+    /// [`FoxgloveTopic::ALL`]; `None` for a channel the recording leaves out.
+    foxglove: Vec<Option<(u16, u64)>>,
     /// Why the recording stopped early.
     failure: Option<String>,
     /// One message's bytes, reused.
@@ -106,16 +107,16 @@ pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
 }
 
 impl McapRecording {
-    /// Creates `path` with one channel per spec (indexed as given), the Foxglove channels if
-    /// `foxglove`, and the metadata records.
+    /// Creates `path` with one channel per spec (indexed as given), the Foxglove channels
+    /// `content` asks for, and the metadata records.
     pub fn create(
         path: &Path,
         channels: &[ChannelSpec],
-        foxglove: bool,
+        content: RecordingContent,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let file = File::create(path).map_err(unwritable(path))?;
-        Self::into_sink(path, BufWriter::new(file), channels, foxglove, metadata)
+        Self::into_sink(path, BufWriter::new(file), channels, content, metadata)
     }
 }
 
@@ -125,7 +126,7 @@ impl<W: Write + Seek> McapRecording<W> {
         path: &Path,
         sink: W,
         channels: &[ChannelSpec],
-        foxglove: bool,
+        content: RecordingContent,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let mcap_error = |error: mcap::McapError| {
@@ -164,8 +165,8 @@ impl<W: Write + Seek> McapRecording<W> {
                 last_sequence: None,
             });
         }
-        let mut foxglove_ids = Vec::new();
-        for topic in FoxgloveTopic::ALL.into_iter().filter(|_| foxglove) {
+        let mut foxglove_ids = vec![None; FoxgloveTopic::ALL.len()];
+        for topic in content.foxglove_topics() {
             let schema_id = match topic.schema() {
                 Some(schema) => writer
                     .add_schema(&schema.name, &schema.encoding, &schema.data)
@@ -180,7 +181,7 @@ impl<W: Write + Seek> McapRecording<W> {
                     &BTreeMap::new(),
                 )
                 .map_err(mcap_error)?;
-            foxglove_ids.push((mcap_id, 0));
+            foxglove_ids[topic.index()] = Some((mcap_id, 0));
         }
         for (name, entries) in metadata {
             writer
@@ -225,11 +226,11 @@ impl<W: Write + Seek> McapRecording<W> {
     /// Whether the recording has Foxglove channels (and still writes): converting a sample
     /// for them is worth it.
     pub fn writes_foxglove(&self) -> bool {
-        !self.foxglove.is_empty() && self.writer.is_some()
+        self.foxglove.iter().any(Option::is_some) && self.writer.is_some()
     }
 
     /// Records `message` on the Foxglove channel `topic` at the sample's sim time (nothing
-    /// when the recording has no Foxglove channels).
+    /// when the recording leaves that channel out).
     pub fn record_foxglove(
         &mut self,
         topic: FoxgloveTopic,
@@ -237,7 +238,7 @@ impl<W: Write + Seek> McapRecording<W> {
         message: &impl foxglove::Encode,
     ) {
         let index = topic.index();
-        let (Some(&(mcap_id, _)), Some(_)) = (self.foxglove.get(index), &self.writer) else {
+        let (Some(&Some((mcap_id, _))), Some(_)) = (self.foxglove.get(index), &self.writer) else {
             return;
         };
         self.buffer.clear();
@@ -245,8 +246,10 @@ impl<W: Write + Seek> McapRecording<W> {
             // A protobuf message encodes into a growable buffer; nothing is lost if not.
             return;
         }
-        if self.write_bytes(mcap_id, stamp) {
-            self.foxglove[index].1 += 1;
+        if self.write_bytes(mcap_id, stamp)
+            && let Some(Some((_, messages))) = self.foxglove.get_mut(index)
+        {
+            *messages += 1;
         }
     }
 
@@ -330,9 +333,10 @@ impl<W: Write + Seek> McapRecording<W> {
                     missed: count.missed,
                     rejected: rejected.get(index).copied().unwrap_or(0),
                 })
-                .chain(self.foxglove.iter().zip(FoxgloveTopic::ALL).map(
-                    |(&(_, messages), topic)| {
-                        ChannelSummary {
+                .chain(self.foxglove.iter().zip(FoxgloveTopic::ALL).filter_map(
+                    |(&created, topic)| {
+                        let (_, messages) = created?;
+                        Some(ChannelSummary {
                             topic: topic.topic().to_owned(),
                             schema: topic
                                 .schema()
@@ -340,7 +344,7 @@ impl<W: Write + Seek> McapRecording<W> {
                             messages,
                             missed: 0,
                             rejected: 0,
-                        }
+                        })
                     },
                 ))
                 .collect(),

@@ -11,6 +11,7 @@
 mod content;
 mod foxglove_channels;
 pub mod foxglove_view;
+pub mod inspect;
 mod summary;
 mod writer;
 

@@ -145,6 +145,10 @@ pub struct RecorderConfig {
     /// channels); `false` keeps the poses, clouds, map and path of a long mission small. The
     /// dataset folder (`dir`) keeps its images either way.
     pub images: bool,
+    /// Address (IP:PORT) on which to serve the Foxglove channels live over the Foxglove
+    /// WebSocket protocol (`--viewer`), for Foxglove to show a running launch; empty for none.
+    /// Only this machine (`127.0.0.1:8765`) unless another address is given on purpose.
+    pub viewer: String,
 }
 
 /// Who explores: both robots, or the rover alone (the baseline the paper compares against).

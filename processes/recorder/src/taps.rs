@@ -14,11 +14,13 @@ use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
 use crate::RecorderError;
-use crate::recording::{ChannelSpec, McapRecording};
+use crate::foxglove_out::Outputs;
+use crate::recording::ChannelSpec;
 use crate::views;
 
 /// A subscriber of one tapped topic, the index of its recording channel (none when the
-/// recording leaves the topic out), and what it adds to the recording's Foxglove channels.
+/// recording leaves the topic out), and its Foxglove messages (for the recording and the
+/// viewer).
 pub struct Tap<P: TapPort> {
     subscriber: P,
     channel: Option<usize>,
@@ -33,7 +35,7 @@ pub type SliceTap<H> = Tap<SliceSubscriber<H>>;
 /// What a tap needs of its subscriber: to open it, the schema it records under, and its count
 /// of rejected samples.
 pub trait TapPort: Sized {
-    /// Writes a sample's Foxglove messages into a recording that has Foxglove channels.
+    /// Sends a sample's Foxglove messages to whoever takes them.
     type View: Copy;
     fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError>;
     /// Schema name and text of the recorded samples.
@@ -41,10 +43,10 @@ pub trait TapPort: Sized {
     fn rejected_total(&self) -> u64;
 }
 
-/// A message's Foxglove messages into the recording.
-pub type MessageView<M> = fn(&mut McapRecording, &M);
-/// A slice's Foxglove messages into the recording.
-pub type SliceView<H> = fn(&mut McapRecording, &H, &[<H as SliceHeader>::Element]);
+/// A message's Foxglove messages to the recording and the viewer.
+pub type MessageView<M> = fn(&mut Outputs, &M);
+/// A slice's Foxglove messages to the recording and the viewer.
+pub type SliceView<H> = fn(&mut Outputs, &H, &[<H as SliceHeader>::Element]);
 
 impl<M: Message + ZeroCopySend + WireBytes> TapPort for Subscriber<M> {
     type View = MessageView<M>;
@@ -119,7 +121,7 @@ impl<P: TapPort> Tap<P> {
         })
     }
 
-    /// The tap, adding `view`'s Foxglove messages of each sample to the recording.
+    /// The tap, sending `view`'s Foxglove messages of each sample.
     fn with_view(self, view: P::View) -> Self {
         Self {
             view: Some(view),
@@ -133,18 +135,18 @@ impl<P: TapPort> Tap<P> {
 }
 
 impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
-    /// Records every pending sample and hands each to `also`.
+    /// Records every pending sample, sends its Foxglove messages and hands each to `also`.
     pub fn drain(
         &self,
-        recording: &mut Option<McapRecording>,
+        outputs: &mut Outputs,
         mut also: impl FnMut(&M) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(message) = self.subscriber.receive()? {
-            if let (Some(recording), Some(channel)) = (recording.as_mut(), self.channel) {
+            if let (Some(recording), Some(channel)) = (&mut outputs.recording, self.channel) {
                 recording.record_message(channel, &message);
-                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
-                    view(recording, &message);
-                }
+            }
+            if let Some(view) = self.view {
+                view(outputs, &message);
             }
             also(&message)?;
         }
@@ -156,18 +158,19 @@ impl<H: SliceHeader + ZeroCopySend + WireBytes> SliceTap<H>
 where
     H::Element: ZeroCopySend + WireBytes,
 {
-    /// Records every pending sample (read in place) and hands each to `also`.
+    /// Records every pending sample (read in place), sends its Foxglove messages and hands
+    /// each to `also`.
     pub fn drain(
         &self,
-        recording: &mut Option<McapRecording>,
+        outputs: &mut Outputs,
         mut also: impl FnMut(&ValidSlice<H>) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(sample) = self.subscriber.receive()? {
-            if let (Some(recording), Some(channel)) = (recording.as_mut(), self.channel) {
+            if let (Some(recording), Some(channel)) = (&mut outputs.recording, self.channel) {
                 recording.record_slice(channel, sample.header(), sample.elements());
-                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
-                    view(recording, sample.header(), sample.elements());
-                }
+            }
+            if let Some(view) = self.view {
+                view(outputs, sample.header(), sample.elements());
             }
             also(&sample)?;
         }

@@ -223,10 +223,10 @@ impl<W: Write + Seek> McapRecording<W> {
         self.write(channel, *header.stamp());
     }
 
-    /// Whether the recording has Foxglove channels (and still writes): converting a sample
-    /// for them is worth it.
-    pub fn writes_foxglove(&self) -> bool {
-        self.foxglove.iter().any(Option::is_some) && self.writer.is_some()
+    /// Whether the recording has the Foxglove channel `topic` (and still writes): converting
+    /// a sample for it is worth it.
+    pub fn wants_foxglove(&self, topic: FoxgloveTopic) -> bool {
+        matches!(self.foxglove.get(topic.index()), Some(Some(_))) && self.writer.is_some()
     }
 
     /// Records `message` on the Foxglove channel `topic` at the sample's sim time (nothing
@@ -237,25 +237,37 @@ impl<W: Write + Seek> McapRecording<W> {
         stamp: SampleStamp,
         message: &impl foxglove::Encode,
     ) {
+        let mut encoded = std::mem::take(&mut self.buffer);
+        encoded.clear();
+        // A protobuf message encodes into a growable buffer; nothing is lost if not.
+        if message.encode(&mut encoded).is_ok() {
+            self.record_foxglove_encoded(topic, stamp, &encoded);
+        }
+        self.buffer = encoded;
+    }
+
+    /// Records an encoded message on the Foxglove channel `topic` at the sample's sim time
+    /// (nothing when the recording leaves that channel out).
+    pub fn record_foxglove_encoded(
+        &mut self,
+        topic: FoxgloveTopic,
+        stamp: SampleStamp,
+        encoded: &[u8],
+    ) {
         let index = topic.index();
-        let (Some(&Some((mcap_id, _))), Some(_)) = (self.foxglove.get(index), &self.writer) else {
+        let Some(&Some((mcap_id, _))) = self.foxglove.get(index) else {
             return;
         };
-        self.buffer.clear();
-        if message.encode(&mut self.buffer).is_err() {
-            // A protobuf message encodes into a growable buffer; nothing is lost if not.
-            return;
-        }
-        if self.write_bytes(mcap_id, stamp)
+        if self.write_bytes(mcap_id, stamp, encoded)
             && let Some(Some((_, messages))) = self.foxglove.get_mut(index)
         {
             *messages += 1;
         }
     }
 
-    /// Writes `self.buffer` on MCAP channel `mcap_id`; false (and the recording stopped)
-    /// on a write error.
-    fn write_bytes(&mut self, mcap_id: u16, stamp: SampleStamp) -> bool {
+    /// Writes `data` on MCAP channel `mcap_id`; false (and the recording stopped) on a write
+    /// error.
+    fn write_bytes(&mut self, mcap_id: u16, stamp: SampleStamp, data: &[u8]) -> bool {
         let Some(writer) = &mut self.writer else {
             return false;
         };
@@ -265,7 +277,7 @@ impl<W: Write + Seek> McapRecording<W> {
             log_time: stamp.sim_time_ns,
             publish_time: stamp.sim_time_ns,
         };
-        match writer.write_to_known_channel(&header, &self.buffer) {
+        match writer.write_to_known_channel(&header, data) {
             Ok(()) => true,
             Err(error) => {
                 self.fail(&error);
@@ -281,9 +293,11 @@ impl<W: Write + Seek> McapRecording<W> {
         };
         count.note_sequence(stamp.sequence);
         let mcap_id = count.mcap_id;
-        if self.write_bytes(mcap_id, stamp) {
+        let bytes = std::mem::take(&mut self.buffer);
+        if self.write_bytes(mcap_id, stamp, &bytes) {
             self.channels[channel].messages += 1;
         }
+        self.buffer = bytes;
     }
 
     /// Stops recording after a write error; the file keeps what was written before it.

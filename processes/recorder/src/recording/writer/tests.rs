@@ -224,7 +224,7 @@ fn foxglove_messages_read_back_as_their_protobuf_types() {
     let mut recording =
         McapRecording::create(&path, &channels(), RecordingContent::EVERYTHING, &[])
             .expect("create");
-    assert!(recording.writes_foxglove());
+    assert!(recording.wants_foxglove(FoxgloveTopic::Transforms));
     let (header, pixels) = image(2, 8);
     for frame in 0..3 {
         let pose = pose(frame, frame);

@@ -15,6 +15,7 @@
 #![warn(missing_docs)]
 
 mod dataset;
+mod error_chain;
 pub mod formats;
 mod foxglove_out;
 mod recorder;

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use foxglove::{Context, PartialMetadata, RawChannel, WebSocketServer, WebSocketServerHandle};
 use hopnav_ipc::messages::SampleStamp;
 
+use crate::error_chain::error_chain;
 use crate::recording::FoxgloveTopic;
 
 /// The address `--viewer` serves on without one: this machine only.
@@ -89,7 +90,7 @@ impl Viewer {
             .context(&context)
             .bind(socket.ip().to_string(), socket.port())
             .start_blocking()
-            .map_err(|error| bind_error(describe(&error)))?;
+            .map_err(|error| bind_error(error_chain(&error)))?;
         let address = SocketAddr::new(socket.ip(), server.port());
         Ok(Self {
             _context: context,
@@ -125,15 +126,4 @@ impl Viewer {
             server.stop().wait_blocking();
         }
     }
-}
-
-/// The server's error and its causes (a bind error says what the OS refused).
-fn describe(error: &foxglove::FoxgloveError) -> String {
-    let mut text = error.to_string();
-    let mut source = std::error::Error::source(error);
-    while let Some(cause) = source {
-        text.push_str(&format!(": {cause}"));
-        source = cause.source();
-    }
-    text
 }

@@ -13,6 +13,8 @@ mod foxglove_channels;
 pub mod foxglove_view;
 pub mod inspect;
 mod summary;
+#[cfg(test)]
+mod test_channels;
 mod writer;
 
 pub use content::RecordingContent;

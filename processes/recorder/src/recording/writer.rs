@@ -12,6 +12,7 @@ use hopnav_ipc::wire::{self, WireBytes};
 use super::content::RecordingContent;
 use super::foxglove_channels::FoxgloveTopic;
 use super::summary::{ChannelSummary, RecordingSummary};
+use crate::error_chain::error_chain;
 use crate::{RecorderError, RecordingError};
 
 /// One channel to create: its topic and the schema of its messages.
@@ -65,13 +66,7 @@ pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
 
 /// The writer's error and its causes (an I/O error says what the OS refused).
 fn describe(error: &mcap::McapError) -> String {
-    let mut text = error.to_string();
-    let mut source = std::error::Error::source(error);
-    while let Some(cause) = source {
-        text.push_str(&format!(": {cause}"));
-        source = cause.source();
-    }
-    text
+    error_chain(error)
 }
 
 /// Turns an OS error on the recording `path` into [`RecordingError::Unwritable`].

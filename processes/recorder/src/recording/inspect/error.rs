@@ -65,11 +65,7 @@ pub enum InspectError {
 
 /// A reader's error as [`InspectError::Corrupt`], with its causes.
 pub(super) fn corrupt(error: &mcap::McapError) -> InspectError {
-    let mut reason = error.to_string();
-    let mut source = std::error::Error::source(error);
-    while let Some(cause) = source {
-        reason.push_str(&format!(": {cause}"));
-        source = cause.source();
+    InspectError::Corrupt {
+        reason: crate::error_chain::error_chain(error),
     }
-    InspectError::Corrupt { reason }
 }

@@ -6,7 +6,7 @@ use hopnav_ipc::messages::{ImageHeader, PixelFormat, PoseEstimate};
 use hopnav_ipc::wire;
 
 use super::*;
-use crate::recording::{ChannelSpec, McapRecording, RecordingContent};
+use crate::recording::{McapRecording, RecordingContent};
 
 const FRAMES: u64 = 12;
 
@@ -25,18 +25,7 @@ fn recording_bytes() -> Vec<u8> {
 /// A recording of `frames` poses and `side_px`² images, with `content`'s Foxglove channels.
 fn recording_of(frames: u64, side_px: u32, content: RecordingContent) -> Vec<u8> {
     let path = temp_path(&format!("valid-{:?}.mcap", std::thread::current().id()));
-    let channels = [
-        ChannelSpec {
-            topic: "hopnav/rover_vo/pose".into(),
-            schema_name: wire::schema_name::<PoseEstimate>(),
-            schema_text: wire::schema_text::<PoseEstimate>(),
-        },
-        ChannelSpec {
-            topic: "hopnav/camera/jumper".into(),
-            schema_name: wire::slice_schema_name::<ImageHeader, u8>(),
-            schema_text: wire::slice_schema_text::<ImageHeader, u8>(),
-        },
-    ];
+    let channels = crate::recording::test_channels::pose_and_image();
     let metadata = [(
         "hopnav.build",
         BTreeMap::from([("commit".to_owned(), "abc123".to_owned())]),

@@ -11,18 +11,7 @@ const NO_FOXGLOVE: RecordingContent = RecordingContent {
 };
 
 fn channels() -> Vec<ChannelSpec> {
-    vec![
-        ChannelSpec {
-            topic: "hopnav/rover_vo/pose".into(),
-            schema_name: wire::schema_name::<PoseEstimate>(),
-            schema_text: wire::schema_text::<PoseEstimate>(),
-        },
-        ChannelSpec {
-            topic: "hopnav/camera/jumper".into(),
-            schema_name: wire::slice_schema_name::<ImageHeader, u8>(),
-            schema_text: wire::slice_schema_text::<ImageHeader, u8>(),
-        },
-    ]
+    crate::recording::test_channels::pose_and_image()
 }
 
 fn pose(frame: u64, sequence: u64) -> PoseEstimate {

@@ -105,6 +105,70 @@ fn lockstep_launch_records_every_frame_of_every_topic() {
     assert!(!metadata["hopnav.build"]["commit"].is_empty());
 }
 
+/// Channel topics of an MCAP file and their message counts (0 for an empty channel).
+fn messages_per_channel(bytes: &[u8]) -> BTreeMap<String, u64> {
+    let summary = mcap::Summary::read(bytes)
+        .expect("summary section")
+        .expect("has a summary");
+    let stats = summary.stats.as_ref().expect("statistics");
+    summary
+        .channels
+        .values()
+        .map(|channel| {
+            let count = stats
+                .channel_message_counts
+                .get(&channel.id)
+                .copied()
+                .unwrap_or(0);
+            (channel.topic.clone(), count)
+        })
+        .collect()
+}
+
+#[test]
+fn images_false_leaves_every_camera_channel_out_and_keeps_the_rest() {
+    let out = out_dir("record-no-images");
+    let run = run_id("record-no-images");
+    let file = out.join("mission.mcap");
+    let config = out.join("no-images.toml");
+    std::fs::write(&config, "[recorder]\nimages = false\n").expect("config");
+    let frames = 10;
+    let mut command = launch_command(&out, &run, &["--lockstep", "--frames", &frames.to_string()]);
+    let stdout = stdout_of_success(
+        command.arg(&config).arg("--record").arg(&file),
+        "hopnav launch",
+    );
+    assert!(stdout.contains("drops 0 "), "{stdout}");
+
+    let counts = messages_per_channel(&std::fs::read(&file).expect("recording"));
+    for image_topic in [
+        "hopnav/camera/jumper",
+        "hopnav/camera/rover_stereo",
+        "/foxglove/jumper/image",
+        "/foxglove/rover/left_image",
+        "/foxglove/rover/right_image",
+    ] {
+        assert!(
+            !counts.contains_key(image_topic),
+            "{image_topic}: {counts:?}"
+        );
+    }
+    for topic in [
+        "hopnav/physics/body_states",
+        "hopnav/jumper_vo/pose",
+        "hopnav/rover_vo/pose",
+    ] {
+        assert_eq!(counts.get(topic), Some(&frames), "{topic}: {counts:?}");
+    }
+    assert_eq!(
+        counts.get("/foxglove/tf"),
+        Some(&(3 * frames)),
+        "{counts:?}"
+    );
+    assert!(counts.contains_key("/foxglove/map"), "{counts:?}");
+    assert!(counts.contains_key("hopnav/mapper/cells"), "{counts:?}");
+}
+
 #[test]
 fn an_unwritable_record_path_is_refused_before_the_launch() {
     let out = out_dir("record-bad-path");

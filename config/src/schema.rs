@@ -140,6 +140,15 @@ pub struct RecorderConfig {
     /// Also write the images, clouds, robot frames, map snapshots and path into the MCAP file
     /// as Foxglove's well-known messages (so it opens in Foxglove); about doubles its size.
     pub foxglove: bool,
+    /// Record the camera images (hopnav's image channels and their Foxglove RawImages) into
+    /// the MCAP file. They are almost all of its size (250 KiB a frame, twice with Foxglove
+    /// channels); `false` keeps the poses, clouds, map and path of a long mission small. The
+    /// dataset folder (`dir`) keeps its images either way.
+    pub images: bool,
+    /// Address (IP:PORT) on which to serve the Foxglove channels live over the Foxglove
+    /// WebSocket protocol (`--viewer`), for Foxglove to show a running launch; empty for none.
+    /// Only this machine (`127.0.0.1:8765`) unless another address is given on purpose.
+    pub viewer: String,
 }
 
 /// Who explores: both robots, or the rover alone (the baseline the paper compares against).

@@ -45,14 +45,20 @@ pub fn validate(config: &HopnavConfig) -> Result<(), ConfigError> {
         .processes
         .get("recorder")
         .is_some_and(|process| process.enabled);
-    let recorder_has_output =
-        !config.recorder.dir.trim().is_empty() || !config.recorder.mcap.trim().is_empty();
+    let recorder_has_output = [
+        &config.recorder.dir,
+        &config.recorder.mcap,
+        &config.recorder.viewer,
+    ]
+    .iter()
+    .any(|output| !output.trim().is_empty());
     if recorder_enabled && !recorder_has_output {
         return Err(ConfigError::OutOfRange {
             key: "recorder.dir".into(),
             value: "\"\"".into(),
-            allowed: "a folder path (or recorder.mcap, a file) when processes.recorder.enabled \
-                      (or use --export-dataset DIR, --record FILE.mcap)"
+            allowed: "a folder path (or recorder.mcap, a file, or recorder.viewer, an address) \
+                      when processes.recorder.enabled (or use --export-dataset DIR, \
+                      --record FILE.mcap, --viewer)"
                 .into(),
         });
     }

@@ -60,6 +60,10 @@ macro_rules! wire_bytes {
                 const LAYOUT_VERSION: u32 = $version;
             }
         )+
+
+        /// Every message type's name and layout version, as schemas name them: a reader of
+        /// a recording checks its schemas against these.
+        pub const LAYOUT_VERSIONS: &[(&str, u32)] = &[$((stringify!($type), $version)),+];
     };
 }
 

@@ -40,6 +40,18 @@ pub struct LaunchArgs {
     /// config and the build's commit (enables the recorder process; in lockstep it is complete).
     #[arg(long, value_name = "FILE.mcap")]
     record: Option<PathBuf>,
+    /// Serve the Foxglove channels of --record (images, clouds, frames, map, path) live over
+    /// the Foxglove WebSocket protocol on ADDR (IP:PORT; default 127.0.0.1:8765, this machine
+    /// only; port 0 picks a free one), for Foxglove's "Open connection" (enables the recorder
+    /// process; or `[recorder] viewer`). A slow client loses messages, never holds the
+    /// launch back.
+    #[arg(
+        long,
+        value_name = "ADDR",
+        num_args = 0..=1,
+        default_missing_value = hopnav_recorder::DEFAULT_VIEWER_ADDRESS
+    )]
+    viewer: Option<String>,
     /// Inject a fault (repeatable; adds to faults.inject). Kinds:
     /// kill:PROC@3s (SIGKILL at 3 s of sim time), stall:PROC@5s+800ms (SIGSTOP, SIGCONT
     /// after 800 ms), drop:PROC/TOPIC@10% (the publisher drops 10 % of its samples on
@@ -102,10 +114,22 @@ fn apply_options(args: &LaunchArgs, config: &mut HopnavConfig) -> Result<(), Exi
         enable_recorder(config, "--record")?;
         config.recorder.mcap = absolute(file);
     }
+    if let Some(address) = &args.viewer {
+        enable_recorder(config, "--viewer")?;
+        config.recorder.viewer = address.clone();
+    }
     let recorder_enabled = config
         .processes
         .get("recorder")
         .is_some_and(|recorder| recorder.enabled);
+    // Refuse a bad or taken viewer address before anything starts, not in the recorder.
+    if recorder_enabled
+        && !config.recorder.viewer.trim().is_empty()
+        && let Err(error) = hopnav_recorder::check_viewer_address(&config.recorder.viewer)
+    {
+        eprintln!("error: {error}");
+        return Err(ExitCode::from(crate::EXIT_CONFIG));
+    }
     let recording = config.recorder.mcap.trim().to_owned();
     if recorder_enabled && !recording.is_empty() {
         config.recorder.mcap = absolute(std::path::Path::new(&recording));

@@ -21,6 +21,7 @@ mod eval_vo_cases_cmd;
 mod jumper_clouds_cmd;
 mod launch_cmd;
 mod plan_cmd;
+mod recording_cmd;
 mod registry;
 mod rover_vo_cmd;
 mod run_cmd;
@@ -78,6 +79,10 @@ enum Command {
     /// The processes of a running launch, live: CPU, memory, frame time p50/p99 against
     /// each one's budget, budget misses and restarts (`--run ID` when several launches run).
     Top(top_cmd::TopArgs),
+    /// Look into a recording (`launch --record FILE.mcap`): check it and list its channels,
+    /// message counts, time span, run id and commit.
+    #[command(subcommand)]
+    Recording(recording_cmd::RecordingCommand),
 }
 
 /// Exit code for a bad configuration or usage, as documented in the README.
@@ -98,5 +103,6 @@ fn main() -> ExitCode {
         Command::Defaults(args) => defaults_cmd::run(args),
         Command::Topic(command) => topic_cmd::run(command),
         Command::Top(args) => top_cmd::run(&args),
+        Command::Recording(command) => recording_cmd::run(command),
     }
 }

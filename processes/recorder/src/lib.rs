@@ -8,20 +8,26 @@
 //! - `altimeter.csv`, `imu.csv`
 //! - `groundtruth_jumper.tum`, `groundtruth_rover.tum` (`t tx ty tz qx qy qz qw`)
 //!
+//! `hopnav launch --viewer [ADDR]` serves the recording's Foxglove channels live ([`viewer`]).
+//!
 //! It only reads shared memory; a sample that fails validation is counted, not written. It runs
 //! in the last stage of the frame, so in lockstep it reads every sample of every frame.
 #![warn(missing_docs)]
 
 mod dataset;
+mod error_chain;
 pub mod formats;
+mod foxglove_out;
 mod recorder;
 pub mod recording;
 mod taps;
+pub mod viewer;
 mod views;
 mod writers;
 
 pub use recorder::Recorder;
 pub use recording::{RecordingSummary, check_writable};
+pub use viewer::{DEFAULT_VIEWER_ADDRESS, ViewerError, check_viewer_address};
 
 /// Why the recorder failed: a failure every node shares (its config, its ports), or one of
 /// its own ([`RecordingError`]).
@@ -38,11 +44,14 @@ pub enum RecordingError {
         /// OS error.
         source: std::io::Error,
     },
-    /// Neither a dataset folder nor a recording file was configured.
+    /// Neither a dataset folder, a recording file nor a viewer address was configured.
     #[error(
-        "config keys recorder.dir and recorder.mcap are empty: pass --export-dataset DIR or --record FILE.mcap"
+        "config keys recorder.dir, recorder.mcap and recorder.viewer are empty: pass --export-dataset DIR, --record FILE.mcap or --viewer"
     )]
     NoOutput,
+    /// The live view could not start.
+    #[error(transparent)]
+    Viewer(#[from] ViewerError),
     /// The recording file cannot be created or written.
     #[error("cannot write the recording {path}: {source}")]
     Unwritable {

@@ -1,5 +1,5 @@
-//! The recorder's lifecycle: open its outputs in `new`, append each frame in `step`, finish
-//! them in `stop`.
+//! The recorder's lifecycle: open its outputs (dataset, recording, viewer) in `new`, append
+//! each frame in `step`, finish them in `stop`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -11,17 +11,19 @@ use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::WireBytes;
 
 use crate::dataset::Dataset;
-use crate::recording::{BUILD_COMMIT, McapRecording};
+use crate::foxglove_out::Outputs;
+use crate::recording::{BUILD_COMMIT, McapRecording, RecordingContent};
 use crate::taps::{MessageTap, SliceTap, Taps};
+use crate::viewer::Viewer;
 use crate::writers::io_error;
 use crate::{RecorderError, RecordingError};
 
-/// Reads every tapped topic each frame and writes it to a dataset folder, an MCAP recording,
-/// or both.
+/// Reads every tapped topic each frame and writes it to a dataset folder, an MCAP recording
+/// and/or the live viewer.
 pub struct Recorder {
     taps: Taps,
     dataset: Option<Dataset>,
-    recording: Option<McapRecording>,
+    outputs: Outputs,
     run_dir: PathBuf,
 }
 
@@ -36,11 +38,11 @@ fn into_dataset(
 /// Records every pending message of `tap` and writes each into the dataset, if there is one.
 fn into_dataset_per_message<M: Message + ZeroCopySend + WireBytes>(
     tap: &MessageTap<M>,
-    recording: &mut Option<McapRecording>,
+    outputs: &mut Outputs,
     dataset: &mut Option<Dataset>,
     write: fn(&mut Dataset, &M) -> Result<(), RecorderError>,
 ) -> Result<(), RecorderError> {
-    tap.drain(recording, |message| {
+    tap.drain(outputs, |message| {
         into_dataset(dataset, |d| write(d, message))
     })
 }
@@ -52,14 +54,14 @@ type WriteSlice<H> =
 /// Records every pending slice of `tap` and writes each into the dataset, if there is one.
 fn into_dataset_per_slice<H: SliceHeader + ZeroCopySend + WireBytes>(
     tap: &SliceTap<H>,
-    recording: &mut Option<McapRecording>,
+    outputs: &mut Outputs,
     dataset: &mut Option<Dataset>,
     write: WriteSlice<H>,
 ) -> Result<(), RecorderError>
 where
     H::Element: ZeroCopySend + WireBytes,
 {
-    tap.drain(recording, |slice| {
+    tap.drain(outputs, |slice| {
         into_dataset(dataset, |d| write(d, slice.header(), slice.elements()))
     })
 }
@@ -77,15 +79,17 @@ fn recording_path(configured: &Path, incarnation: u32) -> PathBuf {
 }
 
 impl Recorder {
-    /// A recorder writing a dataset into `dataset_dir` and/or an MCAP file to `mcap_path`.
+    /// A recorder writing a dataset into `dataset_dir`, an MCAP file to `mcap_path` and/or
+    /// serving the live view on `viewer_address`.
     pub fn open(
         context: &ProcessContext,
         dataset_dir: Option<PathBuf>,
         mcap_path: Option<PathBuf>,
-        foxglove: bool,
+        content: RecordingContent,
+        viewer_address: Option<&str>,
     ) -> Result<Self, RecorderError> {
         let identity = &context.identity;
-        let (taps, channels) = Taps::open(context)?;
+        let (taps, channels) = Taps::open(context, content.images)?;
         let dataset = dataset_dir.map(Dataset::create).transpose()?;
         let recording = match mcap_path {
             Some(path) => {
@@ -108,12 +112,22 @@ impl Recorder {
                     ),
                 ];
                 let path = recording_path(&path, identity.incarnation);
-                Some(McapRecording::create(
-                    &path, &channels, foxglove, &metadata,
-                )?)
+                Some(McapRecording::create(&path, &channels, content, &metadata)?)
             }
             None => None,
         };
+        let viewer = viewer_address
+            .map(Viewer::start)
+            .transpose()
+            .map_err(|error| RecorderError::Own(error.into()))?;
+        if let Some(viewer) = &viewer {
+            // The one line a user (or a test on port 0) needs to connect.
+            eprintln!(
+                "[{}] viewer: ws://{} (Foxglove: Open connection, Foxglove WebSocket)",
+                identity.name,
+                viewer.address()
+            );
+        }
         let run_dir = identity
             .config_path
             .parent()
@@ -121,7 +135,7 @@ impl Recorder {
         Ok(Self {
             taps,
             dataset,
-            recording,
+            outputs: Outputs::new(recording, viewer),
             run_dir,
         })
     }
@@ -139,48 +153,49 @@ impl Process for Recorder {
         let config = hopnav_config::load_file(&context.identity.config_path)?;
         let dataset_dir = configured(&config.recorder.dir);
         let mcap_path = configured(&config.recorder.mcap);
-        if dataset_dir.is_none() && mcap_path.is_none() {
+        let viewer_address = config.recorder.viewer.trim();
+        let viewer_address = (!viewer_address.is_empty()).then_some(viewer_address);
+        if dataset_dir.is_none() && mcap_path.is_none() && viewer_address.is_none() {
             return Err(RecorderError::Own(RecordingError::NoOutput));
         }
-        Self::open(context, dataset_dir, mcap_path, config.recorder.foxglove)
+        let content = RecordingContent {
+            foxglove: config.recorder.foxglove,
+            images: config.recorder.images,
+        };
+        Self::open(context, dataset_dir, mcap_path, content, viewer_address)
     }
 
     fn step(&mut self, _context: &ProcessContext, _tick: &FrameTick) -> Result<(), RecorderError> {
         let Self {
             taps,
             dataset,
-            recording,
+            outputs,
             ..
         } = self;
-        into_dataset_per_message(&taps.body_states, recording, dataset, Dataset::body_states)?;
-        into_dataset_per_message(&taps.altimeter, recording, dataset, Dataset::altimeter)?;
-        into_dataset_per_message(&taps.imu, recording, dataset, Dataset::imu)?;
-        taps.physics_state.drain(recording, |_| Ok(()))?;
-        taps.hop_launches.drain(recording, |_| Ok(()))?;
-        into_dataset_per_slice(
-            &taps.jumper_images,
-            recording,
-            dataset,
-            Dataset::jumper_image,
-        )?;
-        into_dataset_per_slice(&taps.rover_stereo, recording, dataset, Dataset::rover_pair)?;
-        into_dataset_per_message(&taps.jumper_poses, recording, dataset, Dataset::jumper_pose)?;
-        into_dataset_per_message(&taps.rover_poses, recording, dataset, Dataset::rover_pose)?;
-        into_dataset_per_slice(&taps.jumper_clouds, recording, dataset, Dataset::cloud)?;
-        into_dataset_per_slice(&taps.rover_clouds, recording, dataset, Dataset::cloud)?;
-        taps.map_updates.drain(recording, |_| Ok(()))?;
-        taps.map_snapshots.drain(recording, |_| Ok(()))?;
-        taps.paths.drain(recording, |_| Ok(()))?;
-        taps.drive_commands.drain(recording, |_| Ok(()))?;
-        taps.jump_requests.drain(recording, |_| Ok(()))?;
-        taps.control.drain(recording, |_| Ok(()))?;
+        into_dataset_per_message(&taps.body_states, outputs, dataset, Dataset::body_states)?;
+        into_dataset_per_message(&taps.altimeter, outputs, dataset, Dataset::altimeter)?;
+        into_dataset_per_message(&taps.imu, outputs, dataset, Dataset::imu)?;
+        taps.physics_state.drain(outputs, |_| Ok(()))?;
+        taps.hop_launches.drain(outputs, |_| Ok(()))?;
+        into_dataset_per_slice(&taps.jumper_images, outputs, dataset, Dataset::jumper_image)?;
+        into_dataset_per_slice(&taps.rover_stereo, outputs, dataset, Dataset::rover_pair)?;
+        into_dataset_per_message(&taps.jumper_poses, outputs, dataset, Dataset::jumper_pose)?;
+        into_dataset_per_message(&taps.rover_poses, outputs, dataset, Dataset::rover_pose)?;
+        into_dataset_per_slice(&taps.jumper_clouds, outputs, dataset, Dataset::cloud)?;
+        into_dataset_per_slice(&taps.rover_clouds, outputs, dataset, Dataset::cloud)?;
+        taps.map_updates.drain(outputs, |_| Ok(()))?;
+        taps.map_snapshots.drain(outputs, |_| Ok(()))?;
+        taps.paths.drain(outputs, |_| Ok(()))?;
+        taps.drive_commands.drain(outputs, |_| Ok(()))?;
+        taps.jump_requests.drain(outputs, |_| Ok(()))?;
+        taps.control.drain(outputs, |_| Ok(()))?;
         // Flush the dataset every frame: a killed recorder loses at most the frame in
         // progress. The recording writes whole chunks as they fill.
         into_dataset(dataset, Dataset::flush_all)
     }
 
     fn rejected_samples(&self) -> u64 {
-        self.taps.rejected_per_channel().iter().sum()
+        self.taps.rejected_total()
     }
 
     fn stop(&mut self, context: &ProcessContext) {
@@ -191,7 +206,10 @@ impl Process for Recorder {
             }
             eprintln!("[{name}] {}", dataset.describe());
         }
-        if let Some(recording) = &mut self.recording {
+        if let Some(viewer) = &mut self.outputs.viewer {
+            viewer.stop();
+        }
+        if let Some(recording) = &mut self.outputs.recording {
             let summary = recording.finish(&self.taps.rejected_per_channel());
             if let Err(error) = summary.write_into(&self.run_dir) {
                 eprintln!(

@@ -14,14 +14,16 @@ use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
 use crate::RecorderError;
-use crate::recording::{ChannelSpec, McapRecording};
+use crate::foxglove_out::Outputs;
+use crate::recording::ChannelSpec;
 use crate::views;
 
-/// A subscriber of one tapped topic, the index of its recording channel, and what it adds
-/// to the recording's Foxglove channels.
+/// A subscriber of one tapped topic, the index of its recording channel (none when the
+/// recording leaves the topic out), and its Foxglove messages (for the recording and the
+/// viewer).
 pub struct Tap<P: TapPort> {
     subscriber: P,
-    channel: usize,
+    channel: Option<usize>,
     view: Option<P::View>,
 }
 
@@ -33,7 +35,7 @@ pub type SliceTap<H> = Tap<SliceSubscriber<H>>;
 /// What a tap needs of its subscriber: to open it, the schema it records under, and its count
 /// of rejected samples.
 pub trait TapPort: Sized {
-    /// Writes a sample's Foxglove messages into a recording that has Foxglove channels.
+    /// Sends a sample's Foxglove messages to whoever takes them.
     type View: Copy;
     fn open_port(context: &ProcessContext, spec: &TopicSpec) -> Result<Self, RecorderError>;
     /// Schema name and text of the recorded samples.
@@ -41,10 +43,10 @@ pub trait TapPort: Sized {
     fn rejected_total(&self) -> u64;
 }
 
-/// A message's Foxglove messages into the recording.
-pub type MessageView<M> = fn(&mut McapRecording, &M);
-/// A slice's Foxglove messages into the recording.
-pub type SliceView<H> = fn(&mut McapRecording, &H, &[<H as SliceHeader>::Element]);
+/// A message's Foxglove messages to the recording and the viewer.
+pub type MessageView<M> = fn(&mut Outputs, &M);
+/// A slice's Foxglove messages to the recording and the viewer.
+pub type SliceView<H> = fn(&mut Outputs, &H, &[<H as SliceHeader>::Element]);
 
 impl<M: Message + ZeroCopySend + WireBytes> TapPort for Subscriber<M> {
     type View = MessageView<M>;
@@ -91,21 +93,35 @@ impl<P: TapPort> Tap<P> {
         spec: &TopicSpec,
         channels: &mut Vec<ChannelSpec>,
     ) -> Result<Self, RecorderError> {
+        Self::open_if(context, spec, channels, true)
+    }
+
+    /// Opens the subscriber of topic `spec` (the dataset may need it) and adds its recording
+    /// channel to `channels` only if `recorded`.
+    fn open_if(
+        context: &ProcessContext,
+        spec: &TopicSpec,
+        channels: &mut Vec<ChannelSpec>,
+        recorded: bool,
+    ) -> Result<Self, RecorderError> {
         let subscriber = P::open_port(context, spec)?;
-        let (schema_name, schema_text) = P::schema();
-        channels.push(ChannelSpec {
-            topic: spec.name.to_string(),
-            schema_name,
-            schema_text,
+        let channel = recorded.then(|| {
+            let (schema_name, schema_text) = P::schema();
+            channels.push(ChannelSpec {
+                topic: spec.name.to_string(),
+                schema_name,
+                schema_text,
+            });
+            channels.len() - 1
         });
         Ok(Self {
             subscriber,
-            channel: channels.len() - 1,
+            channel,
             view: None,
         })
     }
 
-    /// The tap, adding `view`'s Foxglove messages of each sample to the recording.
+    /// The tap, sending `view`'s Foxglove messages of each sample.
     fn with_view(self, view: P::View) -> Self {
         Self {
             view: Some(view),
@@ -113,24 +129,24 @@ impl<P: TapPort> Tap<P> {
         }
     }
 
-    fn rejected(&self) -> u64 {
-        self.subscriber.rejected_total()
+    fn channel_and_rejected(&self) -> (Option<usize>, u64) {
+        (self.channel, self.subscriber.rejected_total())
     }
 }
 
 impl<M: Message + ZeroCopySend + WireBytes> MessageTap<M> {
-    /// Records every pending sample and hands each to `also`.
+    /// Records every pending sample, sends its Foxglove messages and hands each to `also`.
     pub fn drain(
         &self,
-        recording: &mut Option<McapRecording>,
+        outputs: &mut Outputs,
         mut also: impl FnMut(&M) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(message) = self.subscriber.receive()? {
-            if let Some(recording) = recording {
-                recording.record_message(self.channel, &message);
-                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
-                    view(recording, &message);
-                }
+            if let (Some(recording), Some(channel)) = (&mut outputs.recording, self.channel) {
+                recording.record_message(channel, &message);
+            }
+            if let Some(view) = self.view {
+                view(outputs, &message);
             }
             also(&message)?;
         }
@@ -142,18 +158,19 @@ impl<H: SliceHeader + ZeroCopySend + WireBytes> SliceTap<H>
 where
     H::Element: ZeroCopySend + WireBytes,
 {
-    /// Records every pending sample (read in place) and hands each to `also`.
+    /// Records every pending sample (read in place), sends its Foxglove messages and hands
+    /// each to `also`.
     pub fn drain(
         &self,
-        recording: &mut Option<McapRecording>,
+        outputs: &mut Outputs,
         mut also: impl FnMut(&ValidSlice<H>) -> Result<(), RecorderError>,
     ) -> Result<(), RecorderError> {
         while let Some(sample) = self.subscriber.receive()? {
-            if let Some(recording) = recording {
-                recording.record_slice(self.channel, sample.header(), sample.elements());
-                if let Some(view) = self.view.filter(|_| recording.writes_foxglove()) {
-                    view(recording, sample.header(), sample.elements());
-                }
+            if let (Some(recording), Some(channel)) = (&mut outputs.recording, self.channel) {
+                recording.record_slice(channel, sample.header(), sample.elements());
+            }
+            if let Some(view) = self.view {
+                view(outputs, sample.header(), sample.elements());
             }
             also(&sample)?;
         }
@@ -185,8 +202,11 @@ pub struct Taps {
 
 impl Taps {
     /// Opens a subscriber on every tapped topic; returns the taps and their channels, indexed
-    /// as the taps name them.
-    pub fn open(context: &ProcessContext) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
+    /// as the taps name them (without the cameras' unless `images`).
+    pub fn open(
+        context: &ProcessContext,
+        images: bool,
+    ) -> Result<(Self, Vec<ChannelSpec>), RecorderError> {
         let mut channels = Vec::new();
         let taps = Self {
             body_states: MessageTap::open(context, &topics::BODY_STATES, &mut channels)?
@@ -195,9 +215,14 @@ impl Taps {
             imu: MessageTap::open(context, &topics::IMU, &mut channels)?,
             physics_state: MessageTap::open(context, &topics::PHYSICS_STATE, &mut channels)?,
             hop_launches: MessageTap::open(context, &topics::HOP_LAUNCH, &mut channels)?,
-            jumper_images: SliceTap::open(context, &topics::JUMPER_IMAGE, &mut channels)?
-                .with_view(views::jumper_image),
-            rover_stereo: SliceTap::open(context, &topics::ROVER_STEREO, &mut channels)?
+            jumper_images: SliceTap::open_if(
+                context,
+                &topics::JUMPER_IMAGE,
+                &mut channels,
+                images,
+            )?
+            .with_view(views::jumper_image),
+            rover_stereo: SliceTap::open_if(context, &topics::ROVER_STEREO, &mut channels, images)?
                 .with_view(views::rover_images),
             jumper_poses: MessageTap::open(context, &topics::JUMPER_POSE, &mut channels)?
                 .with_view(views::estimate),
@@ -218,26 +243,43 @@ impl Taps {
         Ok((taps, channels))
     }
 
-    /// Samples rejected per channel (invalid or out of sequence), indexed like the channels.
+    /// Samples rejected per recorded channel (invalid or out of sequence), indexed like the
+    /// channels.
     pub fn rejected_per_channel(&self) -> Vec<u64> {
-        vec![
-            self.body_states.rejected(),
-            self.altimeter.rejected(),
-            self.imu.rejected(),
-            self.physics_state.rejected(),
-            self.hop_launches.rejected(),
-            self.jumper_images.rejected(),
-            self.rover_stereo.rejected(),
-            self.jumper_poses.rejected(),
-            self.rover_poses.rejected(),
-            self.jumper_clouds.rejected(),
-            self.rover_clouds.rejected(),
-            self.map_updates.rejected(),
-            self.map_snapshots.rejected(),
-            self.paths.rejected(),
-            self.drive_commands.rejected(),
-            self.jump_requests.rejected(),
-            self.control.rejected(),
+        self.rejected_per_tap()
+            .into_iter()
+            .filter_map(|(channel, rejected)| channel.map(|_| rejected))
+            .collect()
+    }
+
+    /// Samples rejected by every tap, recorded or not.
+    pub fn rejected_total(&self) -> u64 {
+        self.rejected_per_tap()
+            .into_iter()
+            .map(|(_, rejected)| rejected)
+            .sum()
+    }
+
+    /// Each tap's recording channel and rejected samples, in the order of the channels.
+    fn rejected_per_tap(&self) -> [(Option<usize>, u64); 17] {
+        [
+            self.body_states.channel_and_rejected(),
+            self.altimeter.channel_and_rejected(),
+            self.imu.channel_and_rejected(),
+            self.physics_state.channel_and_rejected(),
+            self.hop_launches.channel_and_rejected(),
+            self.jumper_images.channel_and_rejected(),
+            self.rover_stereo.channel_and_rejected(),
+            self.jumper_poses.channel_and_rejected(),
+            self.rover_poses.channel_and_rejected(),
+            self.jumper_clouds.channel_and_rejected(),
+            self.rover_clouds.channel_and_rejected(),
+            self.map_updates.channel_and_rejected(),
+            self.map_snapshots.channel_and_rejected(),
+            self.paths.channel_and_rejected(),
+            self.drive_commands.channel_and_rejected(),
+            self.jump_requests.channel_and_rejected(),
+            self.control.channel_and_rejected(),
         ]
     }
 }

@@ -1,73 +1,73 @@
-//! Each tapped topic's Foxglove messages, written beside its own channel.
+//! Each tapped topic's Foxglove messages, for the recording's Foxglove channels and the live
+//! viewer. A view converts a sample only for a topic someone takes ([`Outputs::send`]).
 
 use hopnav_ipc::messages::{
     BodyStates, CellUpdate, CloudHeader, FeaturePoint, ImageHeader, MapHeader, PathHeader,
     PathPoint, PoseEstimate,
 };
 
+use crate::foxglove_out::Outputs;
+use crate::recording::FoxgloveTopic;
 use crate::recording::foxglove_view as view;
-use crate::recording::{FoxgloveTopic, McapRecording};
 
 /// Both robots' true poses.
-pub fn truth(recording: &mut McapRecording, states: &BodyStates) {
-    recording.record_foxglove(
-        FoxgloveTopic::Transforms,
-        states.stamp,
-        &view::truth(states),
-    );
+pub fn truth(outputs: &mut Outputs, states: &BodyStates) {
+    outputs.send(FoxgloveTopic::Transforms, states.stamp, || {
+        Some(view::truth(states))
+    });
 }
 
 /// A VO's pose estimate.
-pub fn estimate(recording: &mut McapRecording, pose: &PoseEstimate) {
-    if let Some(transforms) = view::estimate(pose) {
-        recording.record_foxglove(FoxgloveTopic::Transforms, pose.stamp, &transforms);
-    }
+pub fn estimate(outputs: &mut Outputs, pose: &PoseEstimate) {
+    outputs.send(FoxgloveTopic::Transforms, pose.stamp, || {
+        view::estimate(pose)
+    });
 }
 
 /// The jumper's image.
-pub fn jumper_image(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
-    if let Some(image) = view::image(header, pixels, 0) {
-        recording.record_foxglove(FoxgloveTopic::JumperImage, header.stamp, &image);
-    }
+pub fn jumper_image(outputs: &mut Outputs, header: &ImageHeader, pixels: &[u8]) {
+    outputs.send(FoxgloveTopic::JumperImage, header.stamp, || {
+        view::image(header, pixels, 0)
+    });
 }
 
 /// Both views of the rover's stereo pair.
-pub fn rover_images(recording: &mut McapRecording, header: &ImageHeader, pixels: &[u8]) {
+pub fn rover_images(outputs: &mut Outputs, header: &ImageHeader, pixels: &[u8]) {
     let topics = [
         FoxgloveTopic::RoverLeftImage,
         FoxgloveTopic::RoverRightImage,
     ];
     for (view_index, topic) in (0..).zip(topics) {
-        if let Some(image) = view::image(header, pixels, view_index) {
-            recording.record_foxglove(topic, header.stamp, &image);
-        }
+        outputs.send(topic, header.stamp, || {
+            view::image(header, pixels, view_index)
+        });
     }
 }
 
 /// The jumper VO's keyframe cloud.
-pub fn jumper_cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
-    let cloud = view::cloud(header, points);
-    recording.record_foxglove(FoxgloveTopic::JumperCloud, header.stamp, &cloud);
+pub fn jumper_cloud(outputs: &mut Outputs, header: &CloudHeader, points: &[FeaturePoint]) {
+    outputs.send(FoxgloveTopic::JumperCloud, header.stamp, || {
+        Some(view::cloud(header, points))
+    });
 }
 
 /// The rover VO's keyframe cloud.
-pub fn rover_cloud(recording: &mut McapRecording, header: &CloudHeader, points: &[FeaturePoint]) {
-    let cloud = view::cloud(header, points);
-    recording.record_foxglove(FoxgloveTopic::RoverCloud, header.stamp, &cloud);
+pub fn rover_cloud(outputs: &mut Outputs, header: &CloudHeader, points: &[FeaturePoint]) {
+    outputs.send(FoxgloveTopic::RoverCloud, header.stamp, || {
+        Some(view::cloud(header, points))
+    });
 }
 
 /// A whole-map snapshot.
-pub fn map(recording: &mut McapRecording, header: &MapHeader, cells: &[CellUpdate]) {
-    if let Some(grid) = view::map(header, cells) {
-        recording.record_foxglove(FoxgloveTopic::Map, header.stamp, &grid);
-    }
+pub fn map(outputs: &mut Outputs, header: &MapHeader, cells: &[CellUpdate]) {
+    outputs.send(FoxgloveTopic::Map, header.stamp, || {
+        view::map(header, cells)
+    });
 }
 
 /// The planner's path.
-pub fn path(recording: &mut McapRecording, header: &PathHeader, points: &[PathPoint]) {
-    recording.record_foxglove(
-        FoxgloveTopic::Path,
-        header.stamp,
-        &view::path(header, points),
-    );
+pub fn path(outputs: &mut Outputs, header: &PathHeader, points: &[PathPoint]) {
+    outputs.send(FoxgloveTopic::Path, header.stamp, || {
+        Some(view::path(header, points))
+    });
 }

@@ -43,6 +43,14 @@ impl FoxgloveTopic {
         self as usize
     }
 
+    /// Whether it carries camera images (left out by `[recorder] images = false`).
+    pub fn is_image(self) -> bool {
+        matches!(
+            self,
+            Self::JumperImage | Self::RoverLeftImage | Self::RoverRightImage
+        )
+    }
+
     /// The channel's topic in the file (under `/foxglove/`, apart from hopnav's own).
     pub fn topic(self) -> &'static str {
         match self {

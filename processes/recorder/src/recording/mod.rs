@@ -8,11 +8,16 @@
 //! A write error (a full disk) stops the recording, not the recorder: it is named on stderr
 //! and in the summary, and the mission goes on.
 
+mod content;
 mod foxglove_channels;
 pub mod foxglove_view;
+pub mod inspect;
 mod summary;
+#[cfg(test)]
+mod test_channels;
 mod writer;
 
+pub use content::RecordingContent;
 pub use foxglove_channels::FoxgloveTopic;
 pub use summary::{ChannelSummary, RecordingSummary};
 pub use writer::{ChannelSpec, McapRecording, check_writable};

@@ -9,8 +9,10 @@ use hopnav_ipc::messages::SampleStamp;
 use hopnav_ipc::validate::{Message, SliceHeader};
 use hopnav_ipc::wire::{self, WireBytes};
 
+use super::content::RecordingContent;
 use super::foxglove_channels::FoxgloveTopic;
 use super::summary::{ChannelSummary, RecordingSummary};
+use crate::error_chain::error_chain;
 use crate::{RecorderError, RecordingError};
 
 /// One channel to create: its topic and the schema of its messages.
@@ -54,8 +56,8 @@ pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
     writer: Option<mcap::Writer<W>>,
     channels: Vec<ChannelCount>,
     /// The Foxglove channels' MCAP ids and message counts, indexed like
-    /// [`FoxgloveTopic::ALL`]; empty when the recording has none.
-    foxglove: Vec<(u16, u64)>,
+    /// [`FoxgloveTopic::ALL`]; `None` for a channel the recording leaves out.
+    foxglove: Vec<Option<(u16, u64)>>,
     /// Why the recording stopped early.
     failure: Option<String>,
     /// One message's bytes, reused.
@@ -64,13 +66,7 @@ pub struct McapRecording<W: Write + Seek = BufWriter<File>> {
 
 /// The writer's error and its causes (an I/O error says what the OS refused).
 fn describe(error: &mcap::McapError) -> String {
-    let mut text = error.to_string();
-    let mut source = std::error::Error::source(error);
-    while let Some(cause) = source {
-        text.push_str(&format!(": {cause}"));
-        source = cause.source();
-    }
-    text
+    error_chain(error)
 }
 
 /// Turns an OS error on the recording `path` into [`RecordingError::Unwritable`].
@@ -106,16 +102,16 @@ pub fn check_writable(path: &Path) -> Result<(), RecorderError> {
 }
 
 impl McapRecording {
-    /// Creates `path` with one channel per spec (indexed as given), the Foxglove channels if
-    /// `foxglove`, and the metadata records.
+    /// Creates `path` with one channel per spec (indexed as given), the Foxglove channels
+    /// `content` asks for, and the metadata records.
     pub fn create(
         path: &Path,
         channels: &[ChannelSpec],
-        foxglove: bool,
+        content: RecordingContent,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let file = File::create(path).map_err(unwritable(path))?;
-        Self::into_sink(path, BufWriter::new(file), channels, foxglove, metadata)
+        Self::into_sink(path, BufWriter::new(file), channels, content, metadata)
     }
 }
 
@@ -125,7 +121,7 @@ impl<W: Write + Seek> McapRecording<W> {
         path: &Path,
         sink: W,
         channels: &[ChannelSpec],
-        foxglove: bool,
+        content: RecordingContent,
         metadata: &[(&str, BTreeMap<String, String>)],
     ) -> Result<Self, RecorderError> {
         let mcap_error = |error: mcap::McapError| {
@@ -164,8 +160,8 @@ impl<W: Write + Seek> McapRecording<W> {
                 last_sequence: None,
             });
         }
-        let mut foxglove_ids = Vec::new();
-        for topic in FoxgloveTopic::ALL.into_iter().filter(|_| foxglove) {
+        let mut foxglove_ids = vec![None; FoxgloveTopic::ALL.len()];
+        for topic in content.foxglove_topics() {
             let schema_id = match topic.schema() {
                 Some(schema) => writer
                     .add_schema(&schema.name, &schema.encoding, &schema.data)
@@ -180,7 +176,7 @@ impl<W: Write + Seek> McapRecording<W> {
                     &BTreeMap::new(),
                 )
                 .map_err(mcap_error)?;
-            foxglove_ids.push((mcap_id, 0));
+            foxglove_ids[topic.index()] = Some((mcap_id, 0));
         }
         for (name, entries) in metadata {
             writer
@@ -222,37 +218,51 @@ impl<W: Write + Seek> McapRecording<W> {
         self.write(channel, *header.stamp());
     }
 
-    /// Whether the recording has Foxglove channels (and still writes): converting a sample
-    /// for them is worth it.
-    pub fn writes_foxglove(&self) -> bool {
-        !self.foxglove.is_empty() && self.writer.is_some()
+    /// Whether the recording has the Foxglove channel `topic` (and still writes): converting
+    /// a sample for it is worth it.
+    pub fn wants_foxglove(&self, topic: FoxgloveTopic) -> bool {
+        matches!(self.foxglove.get(topic.index()), Some(Some(_))) && self.writer.is_some()
     }
 
     /// Records `message` on the Foxglove channel `topic` at the sample's sim time (nothing
-    /// when the recording has no Foxglove channels).
+    /// when the recording leaves that channel out).
     pub fn record_foxglove(
         &mut self,
         topic: FoxgloveTopic,
         stamp: SampleStamp,
         message: &impl foxglove::Encode,
     ) {
+        let mut encoded = std::mem::take(&mut self.buffer);
+        encoded.clear();
+        // A protobuf message encodes into a growable buffer; nothing is lost if not.
+        if message.encode(&mut encoded).is_ok() {
+            self.record_foxglove_encoded(topic, stamp, &encoded);
+        }
+        self.buffer = encoded;
+    }
+
+    /// Records an encoded message on the Foxglove channel `topic` at the sample's sim time
+    /// (nothing when the recording leaves that channel out).
+    pub fn record_foxglove_encoded(
+        &mut self,
+        topic: FoxgloveTopic,
+        stamp: SampleStamp,
+        encoded: &[u8],
+    ) {
         let index = topic.index();
-        let (Some(&(mcap_id, _)), Some(_)) = (self.foxglove.get(index), &self.writer) else {
+        let Some(&Some((mcap_id, _))) = self.foxglove.get(index) else {
             return;
         };
-        self.buffer.clear();
-        if message.encode(&mut self.buffer).is_err() {
-            // A protobuf message encodes into a growable buffer; nothing is lost if not.
-            return;
-        }
-        if self.write_bytes(mcap_id, stamp) {
-            self.foxglove[index].1 += 1;
+        if self.write_bytes(mcap_id, stamp, encoded)
+            && let Some(Some((_, messages))) = self.foxglove.get_mut(index)
+        {
+            *messages += 1;
         }
     }
 
-    /// Writes `self.buffer` on MCAP channel `mcap_id`; false (and the recording stopped)
-    /// on a write error.
-    fn write_bytes(&mut self, mcap_id: u16, stamp: SampleStamp) -> bool {
+    /// Writes `data` on MCAP channel `mcap_id`; false (and the recording stopped) on a write
+    /// error.
+    fn write_bytes(&mut self, mcap_id: u16, stamp: SampleStamp, data: &[u8]) -> bool {
         let Some(writer) = &mut self.writer else {
             return false;
         };
@@ -262,7 +272,7 @@ impl<W: Write + Seek> McapRecording<W> {
             log_time: stamp.sim_time_ns,
             publish_time: stamp.sim_time_ns,
         };
-        match writer.write_to_known_channel(&header, &self.buffer) {
+        match writer.write_to_known_channel(&header, data) {
             Ok(()) => true,
             Err(error) => {
                 self.fail(&error);
@@ -278,9 +288,11 @@ impl<W: Write + Seek> McapRecording<W> {
         };
         count.note_sequence(stamp.sequence);
         let mcap_id = count.mcap_id;
-        if self.write_bytes(mcap_id, stamp) {
+        let bytes = std::mem::take(&mut self.buffer);
+        if self.write_bytes(mcap_id, stamp, &bytes) {
             self.channels[channel].messages += 1;
         }
+        self.buffer = bytes;
     }
 
     /// Stops recording after a write error; the file keeps what was written before it.
@@ -330,9 +342,10 @@ impl<W: Write + Seek> McapRecording<W> {
                     missed: count.missed,
                     rejected: rejected.get(index).copied().unwrap_or(0),
                 })
-                .chain(self.foxglove.iter().zip(FoxgloveTopic::ALL).map(
-                    |(&(_, messages), topic)| {
-                        ChannelSummary {
+                .chain(self.foxglove.iter().zip(FoxgloveTopic::ALL).filter_map(
+                    |(&created, topic)| {
+                        let (_, messages) = created?;
+                        Some(ChannelSummary {
                             topic: topic.topic().to_owned(),
                             schema: topic
                                 .schema()
@@ -340,7 +353,7 @@ impl<W: Write + Seek> McapRecording<W> {
                             messages,
                             missed: 0,
                             rejected: 0,
-                        }
+                        })
                     },
                 ))
                 .collect(),

@@ -5,19 +5,13 @@ use hopnav_ipc::wire;
 
 use super::*;
 
+const NO_FOXGLOVE: RecordingContent = RecordingContent {
+    foxglove: false,
+    images: true,
+};
+
 fn channels() -> Vec<ChannelSpec> {
-    vec![
-        ChannelSpec {
-            topic: "hopnav/rover_vo/pose".into(),
-            schema_name: wire::schema_name::<PoseEstimate>(),
-            schema_text: wire::schema_text::<PoseEstimate>(),
-        },
-        ChannelSpec {
-            topic: "hopnav/camera/jumper".into(),
-            schema_name: wire::slice_schema_name::<ImageHeader, u8>(),
-            schema_text: wire::slice_schema_text::<ImageHeader, u8>(),
-        },
-    ]
+    crate::recording::test_channels::pose_and_image()
 }
 
 fn pose(frame: u64, sequence: u64) -> PoseEstimate {
@@ -57,7 +51,7 @@ fn synthetic_messages_read_back_with_schemas_times_and_metadata() {
         BTreeMap::from([("commit".to_owned(), "abc123".to_owned())]),
     )];
     let mut recording =
-        McapRecording::create(&path, &channels(), false, &metadata).expect("create");
+        McapRecording::create(&path, &channels(), NO_FOXGLOVE, &metadata).expect("create");
     // Frames 0..5 of poses with frame 3 missing from the sequence; three images.
     for frame in [0, 1, 2, 4] {
         recording.record_message(0, &pose(frame, frame + 10));
@@ -140,7 +134,7 @@ fn bad_paths_are_errors_that_name_the_path() {
         error.to_string().contains(&missing.display().to_string()),
         "{error}"
     );
-    let error = McapRecording::create(&missing, &channels(), false, &[])
+    let error = McapRecording::create(&missing, &channels(), NO_FOXGLOVE, &[])
         .err()
         .expect("create fails");
     assert!(error.to_string().contains("no-such-folder"), "{error}");
@@ -186,7 +180,7 @@ fn a_full_disk_stops_the_recording_with_an_error_not_a_panic() {
     };
     let path = Path::new("/full/disk.mcap");
     let mut recording =
-        McapRecording::into_sink(path, disk, &channels(), false, &[]).expect("create");
+        McapRecording::into_sink(path, disk, &channels(), NO_FOXGLOVE, &[]).expect("create");
     // 40 images of 100 kB do not fit in 2 MB, even compressed (the pixels are noise).
     let mut state = 0x2545_f491_u32;
     for frame in 0..40 {
@@ -216,8 +210,10 @@ fn foxglove_messages_read_back_as_their_protobuf_types() {
     use prost::Message as _;
 
     let path = temp_path("foxglove.mcap");
-    let mut recording = McapRecording::create(&path, &channels(), true, &[]).expect("create");
-    assert!(recording.writes_foxglove());
+    let mut recording =
+        McapRecording::create(&path, &channels(), RecordingContent::EVERYTHING, &[])
+            .expect("create");
+    assert!(recording.wants_foxglove(FoxgloveTopic::Transforms));
     let (header, pixels) = image(2, 8);
     for frame in 0..3 {
         let pose = pose(frame, frame);

@@ -3,7 +3,7 @@
 //! and judges the map's verdict on it; the runtime only records.
 
 use crate::mission_record::RecordedCell;
-use crate::rover_motion::{RoverMotion, motion_of};
+use crate::rover_motion::RoverMotion;
 use hopnav_ipc::messages::BodyState;
 
 /// The map's cells within this of the rover's centre are kept with a contact, metres: the
@@ -34,15 +34,16 @@ pub struct ContactLog {
 }
 
 impl ContactLog {
-    /// Takes one frame of the rover's truth; when its collision count rose, records a contact
+    /// Takes one frame of the rover's truth, with its `motion` and heading `yaw_rad` (from
+    /// [`crate::rover_motion::motion_of`]); when its collision count rose, records a contact
     /// with the cells `cells_around` gives for the rover's position.
     pub fn observe(
         &mut self,
         time_s: f64,
         rover: &BodyState,
+        (motion, yaw_rad): (RoverMotion, f64),
         cells_around: impl FnOnce([f64; 2]) -> Vec<RecordedCell>,
     ) {
-        let (motion, yaw_rad) = motion_of(rover);
         if motion != RoverMotion::Still {
             self.last_motion = motion;
         }
@@ -70,6 +71,7 @@ impl ContactLog {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rover_motion::motion_of;
     use hopnav_ipc::messages::{CellClass, Pose3};
 
     fn rover(forward_mps: f64, yaw_rate_radps: f64, collisions: u32) -> BodyState {
@@ -97,13 +99,17 @@ mod tests {
         }]
     }
 
+    fn observe(log: &mut ContactLog, time_s: f64, rover: BodyState) {
+        log.observe(time_s, &rover, motion_of(&rover), one_cell);
+    }
+
     #[test]
     fn a_contact_after_a_turn_on_the_spot_is_a_turning_one_and_keeps_the_cells() {
         let mut log = ContactLog::default();
-        log.observe(0.1, &rover(0.0, 0.3, 0), one_cell);
+        observe(&mut log, 0.1, rover(0.0, 0.3, 0));
         // The refused move leaves the rover still: its last motion stands.
-        log.observe(0.2, &rover(0.0, 0.0, 1), one_cell);
-        log.observe(0.3, &rover(0.0, 0.0, 1), one_cell);
+        observe(&mut log, 0.2, rover(0.0, 0.0, 1));
+        observe(&mut log, 0.3, rover(0.0, 0.0, 1));
         let contacts = log.contacts();
         assert_eq!(contacts.len(), 1, "one record per rise of the count");
         assert_eq!(contacts[0].motion, RoverMotion::Turning);
@@ -116,8 +122,8 @@ mod tests {
     #[test]
     fn driving_and_reversing_are_told_apart_by_the_heading() {
         let mut log = ContactLog::default();
-        log.observe(0.1, &rover(0.1, 0.5, 1), one_cell);
-        log.observe(0.2, &rover(-0.1, 0.0, 2), one_cell);
+        observe(&mut log, 0.1, rover(0.1, 0.5, 1));
+        observe(&mut log, 0.2, rover(-0.1, 0.0, 2));
         let motions: Vec<_> = log.contacts().iter().map(|c| c.motion).collect();
         assert_eq!(
             motions,

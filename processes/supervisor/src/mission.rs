@@ -141,10 +141,11 @@ impl MissionObserver {
 
     fn on_truth(&mut self, states: &BodyStates) {
         let time_s = states.stamp.sim_time_ns as f64 * 1e-9;
+        let motion = motion_of(&states.rover);
         // The frame's motion over the time since the last truth, until the rover is at B.
         if self.reached_at_s.is_none() && time_s > self.last_sim_time_s {
-            let (motion, _) = motion_of(&states.rover);
-            self.rover_times.add(motion, time_s - self.last_sim_time_s);
+            self.rover_times
+                .add(motion.0, time_s - self.last_sim_time_s);
         }
         self.last_sim_time_s = time_s;
         let time_ns = states.stamp.sim_time_ns;
@@ -164,7 +165,7 @@ impl MissionObserver {
         self.collisions = states.rover.collisions;
         let (geometry, cells) = (self.geometry, &self.cells);
         self.contacts
-            .observe(self.last_sim_time_s, &states.rover, |rover_m| {
+            .observe(self.last_sim_time_s, &states.rover, motion, |rover_m| {
                 geometry.map_or_else(Vec::new, |geometry| {
                     cells_around(&geometry, cells, rover_m, CELLS_AROUND_M)
                 })
